@@ -1,0 +1,50 @@
+// polyaxis: a thin command line over libpolyaxis.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <vector>
+
+#include "commands.h"
+#include "polyaxis/core/check.h"
+#include "polyaxis/core/progress.h"
+
+namespace polyaxis::app {
+
+int report_error(const core::Error& error) {
+  std::fprintf(stderr, "polyaxis: error: %s\n", error.message.c_str());
+  return static_cast<int>(error.code);
+}
+
+}  // namespace polyaxis::app
+
+int main(int argc, char** argv) {
+  using namespace polyaxis;
+  CLI::App app{"polyaxis: process planner for multi-axis layered manufacturing"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "polyaxis 0.1.0");
+  bool quiet = false;
+  app.add_flag("-q,--quiet", quiet, "No progress output on stderr");
+  const app::Runner inspect = app::add_inspect_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  core::set_progress_mode(quiet ? core::ProgressMode::kQuiet : core::ProgressMode::kAuto);
+  try {
+    if (app.got_subcommand("inspect")) return inspect();
+    return 2;
+  } catch (const core::InvariantError& e) {
+    std::fprintf(stderr, "polyaxis: internal error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "polyaxis: internal error: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "polyaxis: internal error: %s\n", e.what());
+    return 1;
+  }
+}

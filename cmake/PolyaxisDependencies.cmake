@@ -1,0 +1,12 @@
+# Debian 12 packages (see README): libtbb-dev, libpolyclipping-dev, libcgal-dev, libocct-*-dev,
+# lib3mf-dev, libcli11-dev, libfmt-dev, nlohmann-json3-dev.
+find_package(Threads REQUIRED)
+find_package(TBB REQUIRED)
+find_package(fmt REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(CLI11 CONFIG QUIET)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(POLYCLIPPING REQUIRED IMPORTED_TARGET polyclipping)
+pkg_check_modules(LIB3MF REQUIRED IMPORTED_TARGET lib3MF)
+find_package(CGAL REQUIRED)
+find_package(OpenCASCADE REQUIRED)

@@ -1,0 +1,20 @@
+// Polygon booleans and offsets on integer polygons, through Clipper (polyclipping 6.4).
+#pragma once
+
+#include <vector>
+
+#include "polyaxis/geom2d/polygon.h"
+
+namespace polyaxis::geom2d {
+
+enum class FillRule { kEvenOdd, kNonZero };
+
+// Union of RINGS under FILL_RULE, nested into polygons with holes (outer CCW, holes CW), in a
+// deterministic order (by outer ring's lowest point). Self-intersecting input is resolved by the
+// fill rule (RELIABILITY T6 uses kNonZero).
+std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_rule);
+
+// Offsets POLYGONS by DELTA_MM (negative shrinks) with mitred corners limited to 2·|delta|.
+std::vector<Polygon> offset(const std::vector<Polygon>& polygons, double delta_mm);
+
+}  // namespace polyaxis::geom2d

@@ -1,0 +1,23 @@
+// Measures of a mesh: volume, area, bounding box, overhang area.
+#pragma once
+
+#include "polyaxis/core/vec3.h"
+#include "polyaxis/mesh/mesh.h"
+
+namespace polyaxis::mesh {
+
+// Signed volume enclosed by the faces, mm³ (divergence theorem about the bounding-box centre for
+// precision). Positive for an outward-oriented closed mesh.
+double signed_volume(const Mesh& mesh);
+double surface_area(const Mesh& mesh);  // mm²
+core::Box3 bounding_box(const Mesh& mesh);
+
+// Facets whose unit normal n has n·d < −sin(α_max) for build direction D (unit) and
+// self-supporting angle α_max from vertical (SPEC §2.2), excluding facets that lie on the build
+// plate (every corner within kPlateContactMm of the lowest point along D). Returns their area, mm².
+double overhang_area(const Mesh& mesh, core::Vec3 direction, double self_supporting_rad);
+
+// Facets resting on the build plate are not overhangs; this is how close "on" is, mm.
+inline constexpr double kPlateContactMm = 1e-3;
+
+}  // namespace polyaxis::mesh

@@ -1,0 +1,95 @@
+#include "polyaxis/geom2d/clip.h"
+
+#include <polyclipping/clipper.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace polyaxis::geom2d {
+namespace {
+
+ClipperLib::Path to_path(const Ring& ring) {
+  ClipperLib::Path path;
+  path.reserve(ring.size());
+  for (const Point& p : ring) path.emplace_back(p.x, p.y);
+  return path;
+}
+
+Ring to_ring(const ClipperLib::Path& path) {
+  Ring ring;
+  ring.reserve(path.size());
+  for (const auto& p : path) ring.push_back({p.X, p.Y});
+  return ring;
+}
+
+Point lowest(const Ring& ring) {
+  Point best = ring.front();
+  for (const Point& p : ring) {
+    if (p.y < best.y || (p.y == best.y && p.x < best.x)) best = p;
+  }
+  return best;
+}
+
+// Rotates RING so it starts at its lowest point: the same polygon always prints the same way.
+void canonical_start(Ring& ring) {
+  if (ring.empty()) return;
+  const Point start = lowest(ring);
+  std::rotate(ring.begin(), std::find(ring.begin(), ring.end(), start), ring.end());
+}
+
+std::vector<Polygon> from_tree(const ClipperLib::PolyTree& tree) {
+  std::vector<Polygon> out;
+  // Outer rings are the even-depth nodes; their children are holes.
+  std::vector<const ClipperLib::PolyNode*> stack(tree.Childs.begin(), tree.Childs.end());
+  while (!stack.empty()) {
+    const ClipperLib::PolyNode* node = stack.back();
+    stack.pop_back();
+    Polygon poly;
+    poly.outer = to_ring(node->Contour);
+    if (twice_signed_area(poly.outer) < 0) std::reverse(poly.outer.begin(), poly.outer.end());
+    canonical_start(poly.outer);
+    for (const ClipperLib::PolyNode* hole : node->Childs) {
+      Ring h = to_ring(hole->Contour);
+      if (twice_signed_area(h) > 0) std::reverse(h.begin(), h.end());
+      canonical_start(h);
+      poly.holes.push_back(std::move(h));
+      for (const ClipperLib::PolyNode* island : hole->Childs) stack.push_back(island);
+    }
+    std::sort(poly.holes.begin(), poly.holes.end(), [](const Ring& a, const Ring& b) {
+      const Point pa = lowest(a), pb = lowest(b);
+      return pa.y != pb.y ? pa.y < pb.y : pa.x < pb.x;
+    });
+    out.push_back(std::move(poly));
+  }
+  std::sort(out.begin(), out.end(), [](const Polygon& a, const Polygon& b) {
+    const Point pa = lowest(a.outer), pb = lowest(b.outer);
+    return pa.y != pb.y ? pa.y < pb.y : pa.x < pb.x;
+  });
+  return out;
+}
+
+}  // namespace
+
+std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_rule) {
+  ClipperLib::Clipper clipper;
+  for (const Ring& r : rings) {
+    if (r.size() >= 3) clipper.AddPath(to_path(r), ClipperLib::ptSubject, true);
+  }
+  ClipperLib::PolyTree tree;
+  const auto rule = fill_rule == FillRule::kNonZero ? ClipperLib::pftNonZero : ClipperLib::pftEvenOdd;
+  clipper.Execute(ClipperLib::ctUnion, tree, rule, rule);
+  return from_tree(tree);
+}
+
+std::vector<Polygon> offset(const std::vector<Polygon>& polygons, double delta_mm) {
+  ClipperLib::ClipperOffset off(2.0, 0.25 * kUnitsPerMm * 1e-3);
+  for (const Polygon& p : polygons) {
+    off.AddPath(to_path(p.outer), ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
+    for (const Ring& h : p.holes) off.AddPath(to_path(h), ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
+  }
+  ClipperLib::PolyTree tree;
+  off.Execute(tree, delta_mm * kUnitsPerMm);
+  return from_tree(tree);
+}
+
+}  // namespace polyaxis::geom2d

@@ -1,0 +1,72 @@
+#include "polyaxis/geom2d/polygon.h"
+
+#include <cmath>
+
+namespace polyaxis::geom2d {
+
+std::int64_t to_units(double mm) { return std::llround(mm * kUnitsPerMm); }
+double to_mm(std::int64_t units) { return static_cast<double>(units) / kUnitsPerMm; }
+
+Int128 twice_signed_area(const Ring& ring) {
+  Int128 sum = 0;
+  const std::size_t n = ring.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point& a = ring[i];
+    const Point& b = ring[(i + 1) % n];
+    sum += static_cast<Int128>(a.x) * b.y - static_cast<Int128>(b.x) * a.y;
+  }
+  return sum;
+}
+
+double signed_area_mm2(const Ring& ring) {
+  return static_cast<double>(twice_signed_area(ring)) / (2.0 * kUnitsPerMm * kUnitsPerMm);
+}
+
+double area_mm2(const Polygon& polygon) {
+  double a = signed_area_mm2(polygon.outer);
+  for (const Ring& h : polygon.holes) a += signed_area_mm2(h);  // holes are clockwise: negative
+  return a;
+}
+
+int orientation(Point a, Point b, Point c) {
+  const Int128 d = static_cast<Int128>(b.x - a.x) * (c.y - a.y) - static_cast<Int128>(b.y - a.y) * (c.x - a.x);
+  return d > 0 ? 1 : (d < 0 ? -1 : 0);
+}
+
+namespace {
+
+bool on_segment(Point a, Point b, Point p) {  // p collinear with a-b: is it within the box?
+  return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y);
+}
+
+bool segments_touch(Point a, Point b, Point c, Point d) {
+  const int o1 = orientation(a, b, c), o2 = orientation(a, b, d), o3 = orientation(c, d, a), o4 = orientation(c, d, b);
+  if (o1 != o2 && o3 != o4 && o1 * o2 <= 0 && o3 * o4 <= 0) return true;
+  if (o1 == 0 && on_segment(a, b, c)) return true;
+  if (o2 == 0 && on_segment(a, b, d)) return true;
+  if (o3 == 0 && on_segment(c, d, a)) return true;
+  if (o4 == 0 && on_segment(c, d, b)) return true;
+  return false;
+}
+
+}  // namespace
+
+bool is_simple(const Ring& ring) {
+  const std::size_t n = ring.size();
+  if (n < 3) return false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point a = ring[i], b = ring[(i + 1) % n];
+    if (a == b) return false;
+    const Point c = ring[(i + 2) % n];
+    // Adjacent edges overlap when they fold back on themselves.
+    if (orientation(a, b, c) == 0 && n > 3 && on_segment(a, b, c) && !(c == a)) return false;
+    if (orientation(a, b, c) == 0 && on_segment(b, c, a)) return false;
+    for (std::size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;  // adjacent through the closing edge
+      if (segments_touch(a, b, ring[j], ring[(j + 1) % n])) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace polyaxis::geom2d

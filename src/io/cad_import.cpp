@@ -1,0 +1,159 @@
+// STEP (ISO 10303-21) and IGES import through OpenCASCADE 7.6: read, transfer all roots into one
+// shape, tessellate with BRepMesh_IncrementalMesh, collect every face's Poly_Triangulation.
+// This is the only translation unit that sees OpenCASCADE headers (src/CMakeLists.txt).
+#include "cad_import.h"
+
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRep_Tool.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Poly_Triangulation.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <TopAbs_Orientation.hxx>
+#include <TopAbs_ShapeEnum.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+#include <XSControl_Reader.hxx>
+#include <fmt/format.h>
+#include <gp_Pnt.hxx>
+#include <gp_Trsf.hxx>
+
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <limits>
+#include <memory>
+#include <new>
+#include <utility>
+
+namespace polyaxis::io {
+namespace {
+
+using core::ErrorCode;
+using core::make_error;
+
+constexpr double kPi = 3.14159265358979323846;
+
+core::Error fail(const char* kind, const std::string& what, const std::string& path) {
+  return make_error(ErrorCode::kInvalidInput, fmt::format("{} import failed: {} ({})", kind, what, path));
+}
+
+// Reads and transfers the file; a null shape means nothing was transferred.
+core::Result<TopoDS_Shape> read_shape(const std::string& path, Format format, const char* kind) {
+  std::unique_ptr<XSControl_Reader> reader;
+  if (format == Format::kStep) {
+    reader = std::make_unique<STEPControl_Reader>();
+  } else {
+    reader = std::make_unique<IGESControl_Reader>();
+  }
+  const IFSelect_ReturnStatus status = reader->ReadFile(path.c_str());
+  if (status != IFSelect_RetDone) return fail(kind, "syntax error or unreadable", path);
+  if (reader->NbRootsForTransfer() <= 0) return fail(kind, "no solid or surface geometry (no entity to transfer)", path);
+  reader->TransferRoots();
+  if (reader->NbShapes() <= 0) return fail(kind, "no solid or surface geometry", path);
+  TopoDS_Shape shape = reader->OneShape();
+  if (shape.IsNull()) return fail(kind, "no solid or surface geometry", path);
+  return shape;
+}
+
+core::Result<RawMesh> import_unguarded(const std::string& path, Format format, double chordal_mm,
+                                       double angular_deg, std::vector<std::string>* warnings) {
+  const char* kind = format == Format::kIges ? "IGES" : "STEP";
+  if (format != Format::kStep && format != Format::kIges) {
+    return make_error(ErrorCode::kUsage, fmt::format("CAD import of {}: format is neither STEP nor IGES", path));
+  }
+  if (!(chordal_mm > 0.0) || !std::isfinite(chordal_mm)) {
+    return make_error(ErrorCode::kUsage, fmt::format("{} import of {}: chordal tolerance {} mm must be positive",
+                                                     kind, path, chordal_mm));
+  }
+  if (!(angular_deg > 0.0) || !(angular_deg < 180.0)) {
+    return make_error(ErrorCode::kUsage, fmt::format("{} import of {}: angular tolerance {} deg must be in (0, 180)",
+                                                     kind, path, angular_deg));
+  }
+
+  auto shape_or = read_shape(path, format, kind);
+  if (!shape_or) return shape_or.error();
+  const TopoDS_Shape& shape = shape_or.value();
+
+  if (!TopExp_Explorer(shape, TopAbs_FACE).More()) return fail(kind, "no solid or surface geometry (no face)", path);
+  if (!TopExp_Explorer(shape, TopAbs_SOLID).More() && warnings != nullptr) {
+    warnings->push_back(fmt::format("{}: {} file holds surfaces but no solid; the mesh may be open", path, kind));
+  }
+
+  const double angular_rad = angular_deg * kPi / 180.0;
+  BRepMesh_IncrementalMesh mesher(shape, chordal_mm, /*isRelative=*/false, angular_rad, /*isInParallel=*/false);
+  if (!mesher.IsDone()) return fail(kind, "tessellation failed", path);
+
+  RawMesh mesh;
+  std::size_t face_index = 0;
+  std::size_t faces_without_mesh = 0;
+  for (TopExp_Explorer explorer(shape, TopAbs_FACE); explorer.More(); explorer.Next(), ++face_index) {
+    const TopoDS_Face& face = TopoDS::Face(explorer.Current());
+    TopLoc_Location location;
+    const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
+    if (triangulation.IsNull() || triangulation->NbTriangles() <= 0) {
+      ++faces_without_mesh;
+      continue;
+    }
+    const gp_Trsf transform = location.Transformation();
+    const bool reversed = face.Orientation() == TopAbs_REVERSED;
+    const int node_count = triangulation->NbNodes();
+    const std::size_t base = mesh.points.size();
+    if (base + static_cast<std::size_t>(node_count) > std::numeric_limits<std::uint32_t>::max()) {
+      return fail(kind, "more than 2^32 tessellation nodes", path);
+    }
+    for (int i = 1; i <= node_count; ++i) {
+      const gp_Pnt p = triangulation->Node(i).Transformed(transform);
+      const core::Vec3 v{p.X(), p.Y(), p.Z()};
+      if (!core::is_finite(v)) return fail(kind, fmt::format("non-finite tessellation node in face {}", face_index), path);
+      mesh.points.push_back(v);
+    }
+    for (int t = 1; t <= triangulation->NbTriangles(); ++t) {
+      int a = 0;
+      int b = 0;
+      int c = 0;
+      triangulation->Triangle(t).Get(a, b, c);
+      if (a < 1 || b < 1 || c < 1 || a > node_count || b > node_count || c > node_count) {
+        return fail(kind, fmt::format("tessellation of face {} has a bad node index", face_index), path);
+      }
+      if (reversed) std::swap(b, c);
+      mesh.triangles.push_back({static_cast<std::uint32_t>(base + static_cast<std::size_t>(a - 1)),
+                                static_cast<std::uint32_t>(base + static_cast<std::size_t>(b - 1)),
+                                static_cast<std::uint32_t>(base + static_cast<std::size_t>(c - 1))});
+    }
+  }
+  if (mesh.triangles.empty()) return fail(kind, "no solid or surface geometry (nothing tessellated)", path);
+  if (faces_without_mesh > 0 && warnings != nullptr) {
+    warnings->push_back(fmt::format("{}: {} of {} {} faces could not be tessellated and were skipped", path,
+                                    faces_without_mesh, face_index, kind));
+  }
+  return mesh;
+}
+
+}  // namespace
+
+core::Result<RawMesh> import_cad_file(const std::string& path, Format format, double chordal_mm,
+                                      double angular_deg, std::vector<std::string>* warnings) {
+  const char* kind = format == Format::kIges ? "IGES" : "STEP";
+  // OpenCASCADE reports through Standard_Failure (not a std::exception) and std::bad_alloc.
+  try {
+    return import_unguarded(path, format, chordal_mm, angular_deg, warnings);
+  } catch (const Standard_Failure& failure) {
+    const char* what = failure.GetMessageString();
+    return fail(kind, fmt::format("OpenCASCADE exception {}: {}", failure.DynamicType()->Name(),
+                                  what != nullptr ? what : ""),
+                path);
+  } catch (const std::bad_alloc&) {
+    return fail(kind, "out of memory", path);
+  } catch (const std::exception& e) {
+    return fail(kind, fmt::format("exception: {}", e.what()), path);
+  } catch (...) {
+    return fail(kind, "unknown exception", path);
+  }
+}
+
+}  // namespace polyaxis::io

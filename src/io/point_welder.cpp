@@ -1,0 +1,66 @@
+#include "point_welder.h"
+
+#include <bit>
+#include <cstring>
+
+namespace polyaxis::io {
+namespace {
+
+constexpr std::uint32_t kEmpty = 0xffffffffu;
+
+std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v + 0.0); }  // -0 + 0 = +0
+
+std::uint64_t mix(std::uint64_t h) {  // murmur3 finaliser
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdULL;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ULL;
+  h ^= h >> 33;
+  return h;
+}
+
+std::uint64_t hash_point(core::Vec3 p) {
+  return mix(bits(p.x) ^ mix(bits(p.y) ^ mix(bits(p.z))));
+}
+
+}  // namespace
+
+PointWelder::PointWelder(std::vector<core::Vec3>& points, std::size_t expected_points) : points_(points) {
+  std::size_t capacity = 1024;
+  while (capacity < 2 * expected_points) capacity *= 2;
+  slots_.assign(capacity, kEmpty);
+  mask_ = capacity - 1;
+  for (std::uint32_t i = 0; i < points_.size(); ++i) {
+    std::uint64_t s = hash_point(points_[i]) & mask_;
+    while (slots_[s] != kEmpty) s = (s + 1) & mask_;
+    slots_[s] = i;
+  }
+}
+
+std::uint32_t PointWelder::index_of(core::Vec3 p) {
+  p = {p.x + 0.0, p.y + 0.0, p.z + 0.0};
+  std::uint64_t s = hash_point(p) & mask_;
+  while (true) {
+    const std::uint32_t i = slots_[s];
+    if (i == kEmpty) break;
+    if (points_[i] == p) return i;
+    s = (s + 1) & mask_;
+  }
+  const auto index = static_cast<std::uint32_t>(points_.size());
+  points_.push_back(p);
+  slots_[s] = index;
+  if (2 * points_.size() > slots_.size()) grow();
+  return index;
+}
+
+void PointWelder::grow() {
+  slots_.assign(slots_.size() * 2, kEmpty);
+  mask_ = slots_.size() - 1;
+  for (std::uint32_t i = 0; i < points_.size(); ++i) {
+    std::uint64_t s = hash_point(points_[i]) & mask_;
+    while (slots_[s] != kEmpty) s = (s + 1) & mask_;
+    slots_[s] = i;
+  }
+}
+
+}  // namespace polyaxis::io

@@ -1,0 +1,28 @@
+// Shares bit-identical points while a reader streams them in (STL has no indices). Exact only:
+// merging within a tolerance is the repair pass's job. -0.0 and +0.0 are the same point (T9).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "polyaxis/core/vec3.h"
+
+namespace polyaxis::io {
+
+class PointWelder {
+ public:
+  // expected_points: a capacity hint (e.g. half the triangle count for a closed mesh).
+  PointWelder(std::vector<core::Vec3>& points, std::size_t expected_points);
+
+  // Index of P in points, appending it if new. P must be finite. Amortised O(1).
+  std::uint32_t index_of(core::Vec3 p);
+
+ private:
+  void grow();
+
+  std::vector<core::Vec3>& points_;
+  std::vector<std::uint32_t> slots_;  // open addressing, linear probing; kEmpty marks a free slot
+  std::uint64_t mask_ = 0;
+};
+
+}  // namespace polyaxis::io

@@ -1,0 +1,261 @@
+// STL readers. Binary layout: 80-byte header, uint32 count n, then n records of 50 bytes
+// (normal, 3 vertices as float32 little-endian, uint16 attribute). ASCII: solid / facet normal /
+// outer loop / vertex ×3 / endloop / endfacet / endsolid, whitespace-separated.
+#include "polyaxis/io/stl.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+#include "point_welder.h"
+#include "sniff.h"
+
+namespace polyaxis::io {
+namespace {
+
+using core::ErrorCode;
+using core::make_error;
+using core::Vec3;
+
+static_assert(std::endian::native == std::endian::little, "STL readers assume a little-endian host");
+
+constexpr std::size_t kHeaderBytes = 84;
+constexpr std::size_t kRecordBytes = 50;
+constexpr std::string_view kBom = "\xEF\xBB\xBF";
+
+float read_f32(const char* p) {
+  std::uint32_t u = 0;
+  std::memcpy(&u, p, 4);
+  return std::bit_cast<float>(u);
+}
+
+std::uint32_t read_u32(const char* p) {
+  std::uint32_t u = 0;
+  std::memcpy(&u, p, 4);
+  return u;
+}
+
+bool binary_size_matches(std::size_t size) {
+  return size >= kHeaderBytes && (size - kHeaderBytes) % kRecordBytes == 0;
+}
+
+// The body is ASCII STL if, after an optional BOM and whitespace, it says "solid" and the first
+// kilobyte holds no NUL and the word "facet" or "endsolid" appears early on.
+bool looks_ascii(std::string_view data) {
+  if (data.starts_with(kBom)) data.remove_prefix(kBom.size());
+  const auto first = data.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return false;
+  data.remove_prefix(first);
+  if (!data.starts_with("solid")) return false;
+  const std::string_view head = data.substr(0, 4096);
+  if (head.find('\0') != std::string_view::npos) return false;
+  return data.find("facet") != std::string_view::npos || data.find("endsolid") != std::string_view::npos;
+}
+
+core::Result<ReadResult> read_binary(std::string_view data, const std::string& name, const ReadOptions& options,
+                                     std::vector<std::string> warnings) {
+  const std::uint64_t n = (data.size() - kHeaderBytes) / kRecordBytes;
+  const std::uint32_t declared = read_u32(data.data() + 80);
+  if (n == 0) return make_error(ErrorCode::kInvalidInput, fmt::format("{}: no geometry (binary STL with 0 triangles)", name));
+  if (n > options.max_triangles) {
+    return make_error(ErrorCode::kInvalidInput,
+                      fmt::format("{}: {} triangles exceeds --max-triangles {}", name, n, options.max_triangles));
+  }
+  if (declared != n) {
+    warnings.push_back(fmt::format("header says {} triangles but the file size holds {}; trusting the size", declared, n));
+  }
+  ReadResult result;
+  result.format = Format::kStlBinary;
+  RawMesh& mesh = result.mesh;
+  mesh.triangles.resize(n);
+  mesh.points.reserve(n / 2 + 16);
+  PointWelder welder(mesh.points, n / 2 + 16);
+  std::uint64_t nan_normals = 0;
+  const char* rec = data.data() + kHeaderBytes;
+  for (std::uint64_t t = 0; t < n; ++t, rec += kRecordBytes) {
+    if (!std::isfinite(read_f32(rec)) || !std::isfinite(read_f32(rec + 4)) || !std::isfinite(read_f32(rec + 8))) {
+      ++nan_normals;
+    }
+    for (int c = 0; c < 3; ++c) {
+      const char* v = rec + 12 + 12 * c;
+      const Vec3 p{read_f32(v), read_f32(v + 4), read_f32(v + 8)};
+      if (!core::is_finite(p)) {
+        return make_error(ErrorCode::kInvalidInput,
+                          fmt::format("{}: facet {} (byte offset {}) has a NaN or infinite vertex", name, t,
+                                      kHeaderBytes + t * kRecordBytes + 12 + 12 * static_cast<unsigned>(c)));
+      }
+      mesh.triangles[t][static_cast<std::size_t>(c)] = welder.index_of(p);
+    }
+  }
+  if (nan_normals > 0) warnings.push_back(fmt::format("{} facets had a NaN or infinite normal; normals are recomputed", nan_normals));
+  result.warnings = std::move(warnings);
+  return result;
+}
+
+// A forward-only tokenizer that counts lines, for error messages.
+class Tokens {
+ public:
+  explicit Tokens(std::string_view text) : text_(text) {}
+
+  std::string_view next() {
+    skip_space();
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && !is_space(text_[pos_])) ++pos_;
+    return text_.substr(start, pos_ - start);
+  }
+  void skip_line() {
+    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+  }
+  bool at_end() {
+    skip_space();
+    return pos_ >= text_.size();
+  }
+  std::size_t line() const { return line_; }
+
+ private:
+  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+  void skip_space() {
+    while (pos_ < text_.size() && is_space(text_[pos_])) {
+      if (text_[pos_] == '\n') ++line_;
+      ++pos_;
+    }
+  }
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  std::size_t line_ = 1;
+};
+
+bool parse_double(std::string_view word, double& out) {
+  if (!word.empty() && word.front() == '+') word.remove_prefix(1);
+  const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), out);
+  return ec == std::errc() && ptr == word.data() + word.size();
+}
+
+bool equals_nocase(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return (x | 0x20) == (y | 0x20);
+         });
+}
+
+core::Result<ReadResult> read_ascii(std::string_view data, const std::string& name, const ReadOptions& options,
+                                    std::vector<std::string> warnings) {
+  if (data.starts_with(kBom)) data.remove_prefix(kBom.size());
+  ReadResult result;
+  result.format = Format::kStlAscii;
+  RawMesh& mesh = result.mesh;
+  // An ASCII facet takes at least ~100 bytes: a capacity hint that cannot be inflated by a header.
+  PointWelder welder(mesh.points, std::min<std::size_t>(data.size() / 200, 1u << 24));
+  Tokens tok(data);
+  std::uint64_t facet = 0;
+  std::uint64_t nan_normals = 0;
+  auto cut = [&](std::string_view expected, std::string_view got) {
+    if (got.empty()) {
+      return make_error(ErrorCode::kInvalidInput, fmt::format("{}: ASCII STL ends inside facet {} at line {} (expected '{}')",
+                                                              name, facet, tok.line(), expected));
+    }
+    return make_error(ErrorCode::kInvalidInput, fmt::format("{}: line {}: expected '{}' in facet {}, found '{:.40}'",
+                                                            name, tok.line(), expected, facet, got));
+  };
+  auto expect = [&](std::string_view word) -> core::Status {
+    const std::string_view got = tok.next();
+    if (!equals_nocase(got, word)) return cut(word, got);
+    return {};
+  };
+  bool in_solid = false;
+  while (!tok.at_end()) {
+    const std::string_view word = tok.next();
+    if (equals_nocase(word, "solid")) {
+      tok.skip_line();  // the name: opaque bytes (F9)
+      in_solid = true;
+      continue;
+    }
+    if (equals_nocase(word, "endsolid")) {
+      tok.skip_line();
+      in_solid = false;
+      continue;
+    }
+    if (!equals_nocase(word, "facet")) {
+      return make_error(ErrorCode::kInvalidInput,
+                        fmt::format("{}: line {}: expected 'facet' or 'endsolid', found '{:.40}'", name, tok.line(), word));
+    }
+    if (!in_solid) {
+      return make_error(ErrorCode::kInvalidInput, fmt::format("{}: line {}: 'facet' outside 'solid'", name, tok.line()));
+    }
+    if (facet >= options.max_triangles) {
+      return make_error(ErrorCode::kInvalidInput,
+                        fmt::format("{}: more than {} triangles exceeds --max-triangles", name, options.max_triangles));
+    }
+    if (auto s = expect("normal"); !s) return s.error();
+    bool normal_ok = true;
+    for (int i = 0; i < 3; ++i) {
+      const std::string_view w = tok.next();
+      double v = 0;
+      if (!parse_double(w, v)) return cut("a number", w);
+      normal_ok = normal_ok && std::isfinite(v);
+    }
+    if (!normal_ok) ++nan_normals;
+    if (auto s = expect("outer"); !s) return s.error();
+    if (auto s = expect("loop"); !s) return s.error();
+    Triangle tri{};
+    for (int c = 0; c < 3; ++c) {
+      if (auto s = expect("vertex"); !s) return s.error();
+      Vec3 p;
+      for (int i = 0; i < 3; ++i) {
+        const std::string_view w = tok.next();
+        if (!parse_double(w, p[i])) return cut("a number", w);
+      }
+      if (!core::is_finite(p)) {
+        return make_error(ErrorCode::kInvalidInput,
+                          fmt::format("{}: line {}: facet {} has a NaN or infinite vertex", name, tok.line(), facet));
+      }
+      tri[static_cast<std::size_t>(c)] = welder.index_of(p);
+    }
+    if (auto s = expect("endloop"); !s) return s.error();
+    if (auto s = expect("endfacet"); !s) return s.error();
+    mesh.triangles.push_back(tri);
+    ++facet;
+  }
+  if (mesh.triangles.empty()) return make_error(ErrorCode::kInvalidInput, fmt::format("{}: no geometry (ASCII STL without facets)", name));
+  if (nan_normals > 0) warnings.push_back(fmt::format("{} facets had a NaN or infinite normal; normals are recomputed", nan_normals));
+  result.warnings = std::move(warnings);
+  return result;
+}
+
+}  // namespace
+
+core::Result<ReadResult> read_stl(std::string_view data, const std::string& name, const ReadOptions& options) {
+  std::vector<std::string> warnings;
+  if (data.size() < kHeaderBytes && !looks_ascii(data)) {
+    if (data.empty()) return make_error(ErrorCode::kInvalidInput, fmt::format("{}: empty file, no geometry", name));
+    return make_error(ErrorCode::kInvalidInput,
+                      fmt::format("{}: truncated: expected at least {} bytes, got {}", name, kHeaderBytes, data.size()));
+  }
+  // Size invariant first (F4: a binary header may say "solid"); a declared count that also matches
+  // makes it certain.
+  if (data.size() >= kHeaderBytes) {
+    const std::uint64_t declared = read_u32(data.data() + 80);
+    if (kHeaderBytes + declared * kRecordBytes == data.size()) return read_binary(data, name, options, std::move(warnings));
+  }
+  if (looks_ascii(data)) return read_ascii(data, name, options, std::move(warnings));
+  if (const auto compressed = compression_of(data)) {
+    return make_error(ErrorCode::kInvalidInput, fmt::format("{}: compressed input ({}); decompress first", name, *compressed));
+  }
+  if (data.starts_with(kBom) && binary_size_matches(data.size() - kBom.size())) {
+    warnings.push_back("skipped a UTF-8 byte-order mark before binary data");
+    data.remove_prefix(kBom.size());
+  }
+  if (binary_size_matches(data.size())) return read_binary(data, name, options, std::move(warnings));
+  const std::uint64_t declared = read_u32(data.data() + 80);
+  if (declared > options.max_triangles) {
+    return make_error(ErrorCode::kInvalidInput,
+                      fmt::format("{}: header claims {} triangles, exceeds --max-triangles {}", name, declared, options.max_triangles));
+  }
+  return make_error(ErrorCode::kInvalidInput,
+                    fmt::format("{}: truncated: expected {} bytes, got {}", name, kHeaderBytes + declared * kRecordBytes, data.size()));
+}
+
+}  // namespace polyaxis::io

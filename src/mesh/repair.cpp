@@ -1,0 +1,319 @@
+#include "polyaxis/mesh/repair.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numeric>
+
+#include "polyaxis/mesh/properties.h"
+#include "polyaxis/mesh/self_intersections.h"
+#include "polyaxis/mesh/topology.h"
+#include "repair_steps.h"
+
+namespace polyaxis::mesh {
+namespace detail {
+namespace {
+
+struct Cell {
+  std::int64_t x, y, z;
+  bool operator==(const Cell&) const = default;
+};
+
+std::uint64_t hash_cell(Cell c) {
+  std::uint64_t h = static_cast<std::uint64_t>(c.x) * 0x9E3779B97F4A7C15ULL;
+  h ^= static_cast<std::uint64_t>(c.y) * 0xC2B2AE3D27D4EB4FULL + (h << 6) + (h >> 2);
+  h ^= static_cast<std::uint64_t>(c.z) * 0x165667B19E3779F9ULL + (h << 6) + (h >> 2);
+  h ^= h >> 29;
+  return h;
+}
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+}  // namespace
+
+std::uint64_t merge_vertices(Mesh& mesh, double tol_mm) {
+  const std::size_t n = mesh.vertices.size();
+  if (tol_mm <= 0.0 || n < 2) return 0;
+  const double cell = 4.0 * tol_mm;
+  constexpr std::uint32_t kEmpty = 0xffffffffu;
+  std::vector<Cell> cells(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 p = mesh.vertices[i];
+    cells[i] = {static_cast<std::int64_t>(std::floor(p.x / cell)), static_cast<std::int64_t>(std::floor(p.y / cell)),
+                static_cast<std::int64_t>(std::floor(p.z / cell))};
+  }
+  // Cell table: open addressing, each slot the head of a chain of the points in that cell.
+  std::size_t capacity = 1024;
+  while (capacity < 2 * n) capacity *= 2;
+  const std::uint64_t mask = capacity - 1;
+  std::vector<std::uint32_t> head(capacity, kEmpty);
+  std::vector<std::uint32_t> next(n, kEmpty);
+  auto slot_of = [&](Cell c) {
+    std::uint64_t s = hash_cell(c) & mask;
+    while (head[s] != kEmpty && !(cells[head[s]] == c)) s = (s + 1) & mask;
+    return s;
+  };
+  for (std::uint32_t i = static_cast<std::uint32_t>(n); i-- > 0;) {  // chains end up in index order
+    const std::uint64_t s = slot_of(cells[i]);
+    next[i] = head[s];
+    head[s] = i;
+  }
+  std::vector<std::uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  const double tol2 = tol_mm * tol_mm;
+  std::uint64_t unions = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Vec3 p = mesh.vertices[i];
+    const Cell c = cells[i];
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      const double base = static_cast<double>(a == 0 ? c.x : (a == 1 ? c.y : c.z)) * cell;
+      lo[a] = (p[a] - base <= tol_mm) ? -1 : 0;
+      hi[a] = (base + cell - p[a] <= tol_mm) ? 1 : 0;
+    }
+    for (int dx = lo[0]; dx <= hi[0]; ++dx) {
+      for (int dy = lo[1]; dy <= hi[1]; ++dy) {
+        for (int dz = lo[2]; dz <= hi[2]; ++dz) {
+          const Cell q{c.x + dx, c.y + dy, c.z + dz};
+          const std::uint64_t s = slot_of(q);
+          for (std::uint32_t j = head[s]; j != kEmpty && j < i; j = next[j]) {
+            const Vec3 d = mesh.vertices[j] - p;
+            if (dot(d, d) > tol2) continue;
+            const std::uint32_t ri = find_root(parent, i), rj = find_root(parent, j);
+            if (ri != rj) {
+              parent[std::max(ri, rj)] = std::min(ri, rj);
+              ++unions;
+            }
+          }
+        }
+      }
+    }
+  }
+  if (unions == 0) return 0;
+  std::vector<std::uint32_t> remap(n);
+  std::vector<Vec3> kept;
+  kept.reserve(n - unions);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t r = find_root(parent, i);
+    if (r == i) {
+      remap[i] = static_cast<std::uint32_t>(kept.size());
+      kept.push_back(mesh.vertices[i]);
+    } else {
+      remap[i] = remap[r];  // r < i, already numbered
+    }
+  }
+  for (Triangle& t : mesh.triangles) {
+    for (auto& v : t) v = remap[v];
+  }
+  mesh.vertices = std::move(kept);
+  return unions;
+}
+
+std::uint64_t remove_degenerate_faces(Mesh& mesh) {
+  const std::size_t before = mesh.triangles.size();
+  std::size_t out = 0;
+  for (std::size_t f = 0; f < before; ++f) {
+    const Triangle t = mesh.triangles[f];
+    const bool repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+    if (repeated || norm(face_area_vector(mesh, f)) < 2.0 * core::kDegenerateAreaMm2) continue;
+    mesh.triangles[out++] = t;
+  }
+  mesh.triangles.resize(out);
+  return before - out;
+}
+
+std::uint64_t remove_duplicate_faces(Mesh& mesh, const EdgeTopology& topo) {
+  std::vector<std::uint32_t> candidates;
+  for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t h = 3 * f + k, o = topo.opposite[h];
+      if (o == kNoHalfEdge || half_edge_from(mesh, h) == half_edge_from(mesh, o)) {
+        candidates.push_back(f);
+        break;
+      }
+    }
+  }
+  if (candidates.size() < 2) return 0;
+  auto sorted_key = [&](std::uint32_t f) {
+    Triangle t = mesh.triangles[f];
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  std::sort(candidates.begin(), candidates.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const Triangle ka = sorted_key(a), kb = sorted_key(b);
+    return ka != kb ? ka < kb : a < b;
+  });
+  // Orientation of a face relative to its sorted key: even permutation = +1.
+  auto parity = [&](std::uint32_t f) {
+    const Triangle& t = mesh.triangles[f];
+    const std::uint32_t m = std::min({t[0], t[1], t[2]});
+    const std::size_t r = t[0] == m ? 0 : (t[1] == m ? 1 : 2);
+    return t[(r + 1) % 3] < t[(r + 2) % 3] ? 1 : -1;
+  };
+  std::vector<char> drop(mesh.triangles.size(), 0);
+  std::uint64_t dropped = 0;
+  for (std::size_t i = 0; i < candidates.size();) {
+    std::size_t j = i + 1;
+    while (j < candidates.size() && sorted_key(candidates[j]) == sorted_key(candidates[i])) ++j;
+    if (j - i > 1) {
+      int balance = 0;
+      for (std::size_t k = i; k < j; ++k) balance += parity(candidates[k]);
+      // Keep one face of the surplus orientation (the first such), drop the rest.
+      bool kept = false;
+      for (std::size_t k = i; k < j; ++k) {
+        const std::uint32_t f = candidates[k];
+        if (!kept && balance != 0 && parity(f) == (balance > 0 ? 1 : -1)) {
+          kept = true;
+          continue;
+        }
+        drop[f] = 1;
+        ++dropped;
+      }
+    }
+    i = j;
+  }
+  if (dropped == 0) return 0;
+  std::size_t out = 0;
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    if (!drop[f]) mesh.triangles[out++] = mesh.triangles[f];
+  }
+  mesh.triangles.resize(out);
+  return dropped;
+}
+
+std::uint64_t remove_unused_vertices(Mesh& mesh) {
+  constexpr std::uint32_t kUnused = 0xffffffffu;
+  std::vector<std::uint32_t> remap(mesh.vertices.size(), kUnused);
+  for (const Triangle& t : mesh.triangles) {
+    for (auto v : t) remap[v] = 0;
+  }
+  std::uint32_t next = 0;
+  std::size_t out = 0;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (remap[v] == kUnused) continue;
+    remap[v] = next++;
+    mesh.vertices[out++] = mesh.vertices[v];
+  }
+  const std::uint64_t removed = mesh.vertices.size() - out;
+  mesh.vertices.resize(out);
+  if (removed > 0) {
+    for (Triangle& t : mesh.triangles) {
+      for (auto& v : t) v = remap[v];
+    }
+  }
+  return removed;
+}
+
+}  // namespace detail
+
+std::vector<std::string> RepairReport::lines() const {
+  std::vector<std::string> out;
+  auto add = [&](std::uint64_t n, const char* what) {
+    if (n > 0) out.push_back(fmt::format("{} {}", n, what));
+  };
+  add(merged_vertices, "vertices merged within the merge tolerance");
+  add(unused_vertices, "unused vertices removed");
+  add(degenerate_faces, "degenerate faces removed");
+  add(duplicate_faces, "duplicate faces removed");
+  add(nonmanifold_edges, "non-manifold edges found");
+  add(split_vertices, "vertices split to make edges and vertices manifold");
+  add(flipped_faces, "faces flipped to agree with their neighbours");
+  add(inverted_shells, "inside-out shells turned outwards");
+  add(holes_filled, "holes filled");
+  add(hole_faces_added, "faces added to fill holes");
+  add(open_holes, "holes left open (--allow-open)");
+  add(interior_shells_removed, "interior shells removed (union of nested same-orientation shells)");
+  add(self_intersecting_faces, "self-intersecting faces (slicing takes the nonzero union)");
+  return out;
+}
+
+core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options) {
+  using core::ErrorCode;
+  RepairedMesh out;
+  Mesh& mesh = out.mesh;
+  mesh.vertices = std::move(raw.points);
+  mesh.triangles = std::move(raw.triangles);
+  RepairReport& report = out.report;
+
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (auto v : mesh.triangles[f]) {
+      if (v >= mesh.vertices.size()) {
+        return core::make_error(ErrorCode::kInvalidInput, fmt::format("facet {} refers to vertex {} of {}", f, v, mesh.vertices.size()));
+      }
+    }
+  }
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Vec3 p = mesh.vertices[v];
+    if (!core::is_finite(p)) return core::make_error(ErrorCode::kInvalidInput, fmt::format("vertex {} is not finite", v));
+    if (std::fabs(p.x) > core::kMaxCoordinateMm || std::fabs(p.y) > core::kMaxCoordinateMm || std::fabs(p.z) > core::kMaxCoordinateMm) {
+      return core::make_error(ErrorCode::kInfeasible,
+                              fmt::format("coordinates out of range: vertex {} at ({:g}, {:g}, {:g}) mm is beyond ±{:g} mm", v, p.x, p.y,
+                                          p.z, core::kMaxCoordinateMm));
+    }
+  }
+
+  report.unused_vertices = detail::remove_unused_vertices(mesh);
+  report.merged_vertices = detail::merge_vertices(mesh, options.merge_mm);
+  report.degenerate_faces = detail::remove_degenerate_faces(mesh);
+  if (mesh.triangles.empty()) return core::make_error(ErrorCode::kInvalidInput, "no geometry: every face is degenerate");
+
+  EdgeTopology topo = build_topology(mesh);
+  report.duplicate_faces = detail::remove_duplicate_faces(mesh, topo);
+  if (report.duplicate_faces > 0) topo = build_topology(mesh);
+  report.nonmanifold_edges = topo.nonmanifold_edges;
+  report.split_vertices = detail::split_nonmanifold_vertices(mesh, topo);
+  if (report.split_vertices > 0) topo = build_topology(mesh);
+  if (topo.nonmanifold_edges > 0) {
+    return core::make_error(ErrorCode::kInfeasible,
+                            fmt::format("{} non-manifold edges remain after splitting vertices", topo.nonmanifold_edges));
+  }
+
+  std::vector<std::uint32_t> component;
+  auto flipped = detail::orient_faces(mesh, topo, component);
+  if (!flipped) return flipped.error();
+  report.flipped_faces = flipped.value();
+  if (report.flipped_faces > 0) topo = build_topology(mesh);
+
+  auto holes = detail::fill_holes(mesh, topo, component, options.max_hole_edges, options.allow_open);
+  if (!holes) return holes.error();
+  report.holes_filled = holes.value().filled;
+  report.hole_faces_added = holes.value().faces_added;
+  report.open_holes = holes.value().left_open;
+
+  out.shells = detail::build_shells(mesh, component, report.open_holes == 0, report);
+  report.unused_vertices += detail::remove_unused_vertices(mesh);
+  topo = build_topology(mesh);
+  out.watertight = topo.closed();
+  out.manifold = topo.nonmanifold_edges == 0;
+
+  if (options.check_self_intersections) {
+    out.self_intersecting = self_intersecting_faces(mesh);
+    report.self_intersecting_faces = out.self_intersecting.size();
+    if (options.strict && !out.self_intersecting.empty()) {
+      return core::make_error(ErrorCode::kInfeasible,
+                              fmt::format("{} self-intersecting faces (first: facet {}) and --strict", out.self_intersecting.size(),
+                                          out.self_intersecting.front()));
+    }
+  }
+
+  const core::Vec3 size = bounding_box(mesh).size();
+  const double extent = std::max({size.x, size.y, size.z});
+  if (extent < core::kTinyPartMm) {
+    out.warnings.push_back(fmt::format("the part is only {:g} mm across: are the units metres? try --scale 1000", extent));
+  } else if (extent < core::kSuspectMetresMm) {
+    out.warnings.push_back(fmt::format("the part is only {:g} mm across: if it is in metres use --scale 1000, in inches --scale 25.4", extent));
+  } else if (extent > core::kSuspectMicronsMm) {
+    out.warnings.push_back(fmt::format("the part is {:g} mm across: if it is in micrometres use --scale 0.001", extent));
+  }
+  return out;
+}
+
+}  // namespace polyaxis::mesh

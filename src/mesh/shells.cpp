@@ -1,0 +1,218 @@
+// Fans, orientation and shells. The nesting test uses the generalised winding number
+// (Jacobson et al. 2013, solid angles by Van Oosterom & Strackee 1983): it needs no ray and no
+// tie rule, and is ±1 inside a closed shell and 0 outside.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <numeric>
+
+#include "polyaxis/mesh/properties.h"
+#include "repair_steps.h"
+
+namespace polyaxis::mesh::detail {
+namespace {
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+  a = find_root(parent, a);
+  b = find_root(parent, b);
+  if (a != b) parent[std::max(a, b)] = std::min(a, b);
+}
+
+std::uint32_t corner_of(const Mesh& mesh, std::uint32_t face, std::uint32_t vertex) {
+  const Triangle& t = mesh.triangles[face];
+  return 3 * face + (t[0] == vertex ? 0u : (t[1] == vertex ? 1u : 2u));
+}
+
+// Solid angle of triangle (a, b, c) seen from the origin, steradians, signed.
+double solid_angle(Vec3 a, Vec3 b, Vec3 c) {
+  const double la = norm(a), lb = norm(b), lc = norm(c);
+  const double num = dot(a, cross(b, c));
+  const double den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+  return 2.0 * std::atan2(num, den);
+}
+
+constexpr double kFourPi = 4.0 * 3.14159265358979323846;
+constexpr std::size_t kMaxShellsForNesting = 2000;  // nesting is pairwise: bound the cost
+
+struct ComponentInfo {
+  std::vector<std::uint32_t> faces;
+  double volume = 0.0;
+  double area = 0.0;
+  core::Box3 box;
+  int depth = 0;
+  bool drop = false;
+};
+
+}  // namespace
+
+std::uint64_t split_nonmanifold_vertices(Mesh& mesh, const EdgeTopology& topo) {
+  const std::size_t nc = 3 * mesh.triangles.size();
+  std::vector<std::uint32_t> parent(nc);
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (std::uint32_t h = 0; h < nc; ++h) {
+    const std::uint32_t o = topo.opposite[h];
+    if (o == kNoHalfEdge || o < h) continue;
+    const std::uint32_t a = half_edge_from(mesh, h), b = half_edge_to(mesh, h);
+    unite(parent, h, corner_of(mesh, o / 3, a));
+    unite(parent, 3 * (h / 3) + (h % 3 + 1) % 3, corner_of(mesh, o / 3, b));
+  }
+  // For each vertex, the fan of its lowest corner keeps it; other fans get copies in corner order.
+  const std::size_t nv = mesh.vertices.size();
+  std::vector<std::uint32_t> owner_root(nv, kNoHalfEdge);
+  std::vector<std::uint32_t> copy_of_root(nc, kNoHalfEdge);
+  std::uint64_t copies = 0;
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    const std::uint32_t v = mesh.triangles[c / 3][c % 3];
+    const std::uint32_t r = find_root(parent, c);
+    if (owner_root[v] == kNoHalfEdge) owner_root[v] = r;
+    if (owner_root[v] == r) continue;
+    if (copy_of_root[r] == kNoHalfEdge) {
+      copy_of_root[r] = static_cast<std::uint32_t>(mesh.vertices.size());
+      mesh.vertices.push_back(mesh.vertices[v]);
+      ++copies;
+    }
+    mesh.triangles[c / 3][c % 3] = copy_of_root[r];
+  }
+  return copies;
+}
+
+core::Result<std::uint64_t> orient_faces(Mesh& mesh, const EdgeTopology& topo, std::vector<std::uint32_t>& component) {
+  const std::size_t nf = mesh.triangles.size();
+  constexpr std::uint32_t kUnset = 0xffffffffu;
+  component.assign(nf, kUnset);
+  std::vector<char> flip(nf, 0);
+  std::vector<std::uint32_t> queue;
+  std::vector<std::uint64_t> flips_in, size_of;
+  std::uint32_t next_id = 0;
+  for (std::uint32_t seed = 0; seed < nf; ++seed) {
+    if (component[seed] != kUnset) continue;
+    const std::uint32_t id = next_id++;
+    std::uint64_t flips = 0, size = 0;
+    queue.assign(1, seed);
+    component[seed] = id;
+    for (std::size_t qi = 0; qi < queue.size(); ++qi) {
+      const std::uint32_t f = queue[qi];
+      ++size;
+      flips += static_cast<std::uint64_t>(flip[f]);
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t h = 3 * f + k, o = topo.opposite[h];
+        if (o == kNoHalfEdge) continue;
+        const std::uint32_t g = o / 3;
+        const char same_direction = half_edge_from(mesh, h) == half_edge_from(mesh, o) ? 1 : 0;
+        const char want = static_cast<char>(flip[f] ^ same_direction);
+        if (component[g] == kUnset) {
+          component[g] = id;
+          flip[g] = want;
+          queue.push_back(g);
+        } else if (flip[g] != want) {
+          const Vec3 p = mesh.vertices[half_edge_from(mesh, h)];
+          return core::make_error(core::ErrorCode::kInfeasible,
+                                  fmt::format("non-orientable surface (a Möbius-like band) at facet {} near ({:g}, {:g}, {:g})", g, p.x,
+                                              p.y, p.z));
+        }
+      }
+    }
+    flips_in.push_back(flips);
+    size_of.push_back(size);
+  }
+  std::uint64_t flipped = 0;
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint32_t id = component[f];
+    const bool majority_flipped = 2 * flips_in[id] > size_of[id];
+    if (static_cast<bool>(flip[f]) != majority_flipped) {
+      std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
+      ++flipped;
+    }
+  }
+  return flipped;
+}
+
+std::vector<Shell> build_shells(Mesh& mesh, const std::vector<std::uint32_t>& component, bool closed, RepairReport& report) {
+  std::uint32_t count = 0;
+  for (auto c : component) count = std::max(count, c + 1);
+  std::vector<ComponentInfo> info(count);
+  for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) info[component[f]].faces.push_back(f);
+  for (ComponentInfo& ci : info) {
+    for (auto f : ci.faces) {
+      for (int k = 0; k < 3; ++k) ci.box.add(mesh.corner(f, k));
+    }
+    const Vec3 o = (ci.box.min + ci.box.max) * 0.5;
+    double six_v = 0.0, twice_a = 0.0;
+    for (auto f : ci.faces) {
+      six_v += dot(mesh.corner(f, 0) - o, cross(mesh.corner(f, 1) - o, mesh.corner(f, 2) - o));
+      twice_a += norm(face_area_vector(mesh, f));
+    }
+    ci.volume = six_v / 6.0;
+    ci.area = twice_a / 2.0;
+  }
+  if (closed && count > 1 && count <= kMaxShellsForNesting) {
+    for (std::uint32_t s = 0; s < count; ++s) {
+      // Probe point: the centroid of the shell's largest face.
+      std::uint32_t best = info[s].faces.front();
+      double best_area = -1.0;
+      for (auto f : info[s].faces) {
+        const double a = norm(face_area_vector(mesh, f));
+        if (a > best_area) best_area = a, best = f;
+      }
+      const Vec3 p = (mesh.corner(best, 0) + mesh.corner(best, 1) + mesh.corner(best, 2)) / 3.0;
+      for (std::uint32_t t = 0; t < count; ++t) {
+        if (t == s) continue;
+        const core::Box3& b = info[t].box;
+        if (p.x < b.min.x || p.x > b.max.x || p.y < b.min.y || p.y > b.max.y || p.z < b.min.z || p.z > b.max.z) continue;
+        double omega = 0.0;
+        for (auto f : info[t].faces) omega += solid_angle(mesh.corner(f, 0) - p, mesh.corner(f, 1) - p, mesh.corner(f, 2) - p);
+        if (std::fabs(omega / kFourPi) > core::kInsideWindingNumber) ++info[s].depth;
+      }
+    }
+  }
+  std::vector<Shell> shells;
+  std::vector<Triangle> ordered;
+  ordered.reserve(mesh.triangles.size());
+  std::vector<std::uint32_t> order(count);
+  std::iota(order.begin(), order.end(), 0u);
+  for (ComponentInfo& ci : info) {
+    const bool inside = ci.depth % 2 == 1;
+    if (!inside && ci.volume < 0.0) {  // T3: inside-out solid
+      for (auto f : ci.faces) std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
+      ci.volume = -ci.volume;
+      ++report.inverted_shells;
+      report.flipped_faces += ci.faces.size();
+    } else if (inside && ci.volume > 0.0) {  // T8: same orientation inside another: union drops it
+      ci.drop = true;
+      ++report.interior_shells_removed;
+    }
+  }
+  // Solids by descending volume, then cavities by descending |volume|; ties by component id.
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const bool ca = info[a].volume < 0.0, cb = info[b].volume < 0.0;
+    if (ca != cb) return !ca;
+    return std::fabs(info[a].volume) > std::fabs(info[b].volume);
+  });
+  for (auto id : order) {
+    const ComponentInfo& ci = info[id];
+    if (ci.drop) continue;
+    Shell shell;
+    shell.first_face = static_cast<std::uint32_t>(ordered.size());
+    shell.face_count = static_cast<std::uint32_t>(ci.faces.size());
+    shell.volume_mm3 = ci.volume;
+    shell.area_mm2 = ci.area;
+    shell.cavity = ci.volume < 0.0;
+    shell.closed = closed;
+    for (auto f : ci.faces) ordered.push_back(mesh.triangles[f]);
+    shells.push_back(shell);
+  }
+  mesh.triangles = std::move(ordered);
+  return shells;
+}
+
+}  // namespace polyaxis::mesh::detail

@@ -1,0 +1,54 @@
+#include <gtest/gtest.h>
+
+#include "polyaxis/geom2d/clip.h"
+#include "polyaxis/geom2d/polygon.h"
+
+namespace polyaxis::geom2d {
+namespace {
+
+Ring square(std::int64_t x0, std::int64_t y0, std::int64_t s) { return {{x0, y0}, {x0 + s, y0}, {x0 + s, y0 + s}, {x0, y0 + s}}; }
+
+TEST(Polygon, ExactAreaAndOrientation) {
+  const Ring r = square(0, 0, to_units(10));
+  EXPECT_EQ(twice_signed_area(r), static_cast<Int128>(2) * to_units(10) * to_units(10));
+  EXPECT_DOUBLE_EQ(signed_area_mm2(r), 100.0);
+  EXPECT_EQ(orientation({0, 0}, {1, 0}, {0, 1}), 1);
+  EXPECT_EQ(orientation({0, 0}, {1, 1}, {2, 2}), 0);
+  // Far coordinates: the 128-bit product does not overflow.
+  const std::int64_t big = to_units(1e6);
+  EXPECT_EQ(orientation({-big, -big}, {big, -big}, {big, big}), 1);
+}
+
+TEST(Polygon, Simplicity) {
+  EXPECT_TRUE(is_simple(square(0, 0, 10)));
+  EXPECT_FALSE(is_simple({{0, 0}, {10, 10}, {10, 0}, {0, 10}}));  // bow tie
+  EXPECT_FALSE(is_simple({{0, 0}, {10, 0}, {10, 0}, {0, 10}}));   // repeated point
+}
+
+TEST(Clip, UnionNestsHolesAndOrients) {
+  const std::int64_t mm = to_units(1);
+  Ring hole = square(2 * mm, 2 * mm, 6 * mm);
+  const auto polys = union_rings({square(0, 0, 10 * mm), hole}, FillRule::kEvenOdd);
+  ASSERT_EQ(polys.size(), 1u);
+  ASSERT_EQ(polys[0].holes.size(), 1u);
+  EXPECT_GT(twice_signed_area(polys[0].outer), 0);
+  EXPECT_LT(twice_signed_area(polys[0].holes[0]), 0);
+  EXPECT_DOUBLE_EQ(area_mm2(polys[0]), 100.0 - 36.0);
+}
+
+TEST(Clip, NonZeroUnionOfOverlaps) {
+  const std::int64_t mm = to_units(1);
+  const auto polys = union_rings({square(0, 0, 10 * mm), square(5 * mm, 5 * mm, 10 * mm)}, FillRule::kNonZero);
+  ASSERT_EQ(polys.size(), 1u);
+  EXPECT_DOUBLE_EQ(area_mm2(polys[0]), 175.0);
+}
+
+TEST(Clip, OffsetShrinksASquare) {
+  const std::int64_t mm = to_units(1);
+  const auto polys = offset({Polygon{square(0, 0, 10 * mm), {}}}, -1.0);
+  ASSERT_EQ(polys.size(), 1u);
+  EXPECT_NEAR(area_mm2(polys[0]), 64.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace polyaxis::geom2d

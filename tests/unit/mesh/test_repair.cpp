@@ -1,0 +1,227 @@
+// Repair properties: closed, manifold, outward, consistent; and one test per topology row.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "polyaxis/mesh/properties.h"
+#include "polyaxis/mesh/repair.h"
+#include "polyaxis/mesh/topology.h"
+#include "support/meshes.h"
+
+namespace polyaxis::mesh {
+namespace {
+
+void expect_clean(const RepairedMesh& r) {
+  const EdgeTopology t = build_topology(r.mesh);
+  EXPECT_TRUE(t.closed());
+  EXPECT_EQ(t.misoriented_edges, 0u);
+  EXPECT_TRUE(r.watertight);
+  EXPECT_TRUE(r.manifold);
+  EXPECT_GT(signed_volume(r.mesh), 0.0);
+}
+
+TEST(Repair, CleanCubeIsUntouched) {
+  auto r = repair(test::cube());
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  expect_clean(r.value());
+  EXPECT_TRUE(r.value().report.lines().empty());
+  EXPECT_DOUBLE_EQ(signed_volume(r.value().mesh), 1000.0);
+  EXPECT_EQ(r.value().shells.size(), 1u);
+}
+
+TEST(Repair, IsIdempotent) {
+  auto once = repair(test::soup(test::torus(20, 5, 40, 20)));
+  ASSERT_TRUE(once.ok());
+  io::RawMesh again{once.value().mesh.vertices, once.value().mesh.triangles};
+  auto twice = repair(again);
+  ASSERT_TRUE(twice.ok());
+  EXPECT_TRUE(twice.value().report.lines().empty());
+  EXPECT_EQ(twice.value().mesh.triangles, once.value().mesh.triangles);
+}
+
+TEST(Repair, T1FillsSmallHoles) {
+  io::RawMesh m = test::torus(20, 5, 40, 20);
+  m.triangles.erase(m.triangles.begin() + 100);
+  m.triangles.erase(m.triangles.begin() + 100);  // a quad-shaped hole of 4 edges
+  auto r = repair(m);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  expect_clean(r.value());
+  EXPECT_EQ(r.value().report.holes_filled, 1u);
+  EXPECT_EQ(r.value().report.hole_faces_added, 2u);
+}
+
+TEST(Repair, T1RefusesLargeHolesUnlessAllowed) {
+  io::RawMesh m = test::torus(20, 5, 40, 20);
+  for (int i = 0; i < 20; ++i) m.triangles.pop_back();
+  RepairOptions options;
+  options.max_hole_edges = 8;
+  auto r = repair(m, options);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, core::ErrorCode::kInfeasible);
+  EXPECT_NE(r.error().message.find("hole"), std::string::npos);
+  options.allow_open = true;
+  auto open = repair(m, options);
+  ASSERT_TRUE(open.ok());
+  EXPECT_EQ(open.value().report.open_holes, 1u);
+  EXPECT_FALSE(open.value().watertight);
+}
+
+TEST(Repair, T2SplitsNonManifoldEdge) {
+  // Two cubes sharing the edge x=10, y=10 (z 0..10).
+  io::RawMesh m = test::join(test::cube(), test::box({10, 10, 0}, {20, 20, 10}));
+  auto r = repair(m);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  expect_clean(r.value());
+  EXPECT_EQ(r.value().report.nonmanifold_edges, 1u);
+  EXPECT_EQ(r.value().report.split_vertices, 2u);
+  EXPECT_EQ(r.value().shells.size(), 2u);
+  EXPECT_NEAR(signed_volume(r.value().mesh), 2000.0, 1e-9);
+}
+
+TEST(Repair, T3FlipsFacesAndInvertedShells) {
+  io::RawMesh m = test::cube();
+  std::swap(m.triangles[3][1], m.triangles[3][2]);
+  auto r = repair(m);
+  ASSERT_TRUE(r.ok());
+  expect_clean(r.value());
+  EXPECT_EQ(r.value().report.flipped_faces, 1u);
+  auto inside_out = repair(test::flipped(test::cube()));
+  ASSERT_TRUE(inside_out.ok());
+  expect_clean(inside_out.value());
+  EXPECT_EQ(inside_out.value().report.inverted_shells, 1u);
+  EXPECT_DOUBLE_EQ(signed_volume(inside_out.value().mesh), 1000.0);
+}
+
+TEST(Repair, T4RemovesDuplicateFaces) {
+  io::RawMesh m = test::cube();
+  m.triangles.push_back(m.triangles[5]);
+  auto r = repair(m);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  expect_clean(r.value());
+  EXPECT_EQ(r.value().report.duplicate_faces, 1u);
+  EXPECT_EQ(r.value().mesh.triangles.size(), 12u);
+}
+
+TEST(Repair, T5RemovesDegenerateFaces) {
+  io::RawMesh m = test::cube();
+  m.triangles.push_back({0, 1, 1});
+  m.points.push_back({5, 0, 0});  // on the edge 0-1
+  m.triangles.push_back({0, 8, 1});
+  auto r = repair(m);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  expect_clean(r.value());
+  EXPECT_EQ(r.value().report.degenerate_faces, 2u);
+}
+
+TEST(Repair, T6DetectsSelfIntersections) {
+  io::RawMesh m = test::join(test::cube(), test::box({5, 5, 5}, {15, 15, 15}));
+  auto r = repair(m);
+  ASSERT_TRUE(r.ok());
+  EXPECT_GT(r.value().report.self_intersecting_faces, 0u);
+  RepairOptions strict;
+  strict.strict = true;
+  auto s = repair(m, strict);
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.error().code, core::ErrorCode::kInfeasible);
+  auto clean = repair(test::torus(20, 5, 40, 20));
+  EXPECT_EQ(clean.value().report.self_intersecting_faces, 0u);
+}
+
+TEST(Repair, T7SeparatesDisjointShells) {
+  auto r = repair(test::join(test::cube(), test::box({20, 0, 0}, {25, 5, 5})));
+  ASSERT_TRUE(r.ok());
+  expect_clean(r.value());
+  ASSERT_EQ(r.value().shells.size(), 2u);
+  EXPECT_DOUBLE_EQ(r.value().shells[0].volume_mm3, 1000.0);
+  EXPECT_DOUBLE_EQ(r.value().shells[1].volume_mm3, 125.0);
+  EXPECT_TRUE(r.value().report.lines().empty());
+}
+
+TEST(Repair, T8InwardNestedShellIsACavity) {
+  auto r = repair(test::join(test::cube(), test::flipped(test::box({2, 2, 2}, {8, 8, 8}))));
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.value().shells.size(), 2u);
+  EXPECT_TRUE(r.value().shells[1].cavity);
+  EXPECT_DOUBLE_EQ(signed_volume(r.value().mesh), 1000.0 - 216.0);
+  EXPECT_EQ(r.value().report.interior_shells_removed, 0u);
+}
+
+TEST(Repair, T8OutwardNestedShellIsUnited) {
+  auto r = repair(test::join(test::cube(), test::box({2, 2, 2}, {8, 8, 8})));
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.value().shells.size(), 1u);
+  EXPECT_EQ(r.value().report.interior_shells_removed, 1u);
+  EXPECT_DOUBLE_EQ(signed_volume(r.value().mesh), 1000.0);
+}
+
+TEST(Repair, T9MergesNearCoincidentVertices) {
+  io::RawMesh m = test::soup(test::cube());
+  for (std::size_t i = 0; i < m.points.size(); ++i) m.points[i].x += static_cast<double>(i % 3) * 2e-5;  // within 1e-4
+  auto r = repair(m);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  expect_clean(r.value());
+  EXPECT_EQ(r.value().mesh.vertices.size(), 8u);
+}
+
+TEST(Repair, F7RefusesHugeCoordinates) {
+  io::RawMesh m = test::cube();
+  m.points[0].x = 2e6;
+  auto r = repair(m);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, core::ErrorCode::kInfeasible);
+  EXPECT_NE(r.error().message.find("out of range"), std::string::npos);
+}
+
+TEST(Repair, F8WarnsAboutUnits) {
+  io::RawMesh m = test::cube(0.05);  // 5 cm written in metres
+  auto r = repair(m);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.value().warnings.size(), 1u);
+  EXPECT_NE(r.value().warnings[0].find("--scale"), std::string::npos);
+}
+
+TEST(Repair, RefusesNonOrientableBand) {
+  // A Möbius band of 8 quads closed with a half twist.
+  io::RawMesh m;
+  const int n = 8;
+  for (int i = 0; i < n; ++i) {
+    const double u = 2 * 3.14159265358979 * i / n;
+    const double c = std::cos(u / 2);
+    m.points.push_back({(10 + 2 * c) * std::cos(u), (10 + 2 * c) * std::sin(u), 2 * std::sin(u / 2)});
+    m.points.push_back({(10 - 2 * c) * std::cos(u), (10 - 2 * c) * std::sin(u), -2 * std::sin(u / 2)});
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t a = 2 * i, b = 2 * i + 1;
+    const std::uint32_t c = i + 1 < n ? 2 * (i + 1) : 1, d = i + 1 < n ? 2 * (i + 1) + 1 : 0;
+    m.triangles.push_back({a, b, d});
+    m.triangles.push_back({a, d, c});
+  }
+  auto r = repair(m);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, core::ErrorCode::kInfeasible);
+}
+
+TEST(Properties, OverhangOfAnLBlockArm) {
+  // Column 20x20x60 with an arm 50x20x20 at z 40..60 reaching +X: the arm's underside (1000 mm²)
+  // overhangs; the column's base rests on the plate.
+  io::RawMesh m = test::join(test::box({0, 0, 0}, {20, 20, 60}), test::box({20, 0, 40}, {70, 20, 60}));
+  Mesh mesh{m.points, m.triangles};
+  const double rad30 = 30.0 * 3.14159265358979323846 / 180.0;
+  // The joined faces at x = 20 are vertical and not overhangs.
+  EXPECT_NEAR(overhang_area(mesh, {0, 0, 1}, rad30), 1000.0, 1e-9);
+  // Built downwards from a plate at z = 60, nothing faces away from the build direction except
+  // the top faces, which rest on the plate.
+  EXPECT_NEAR(overhang_area(mesh, {0, 0, -1}, rad30), 0.0, 1e-9);
+  // At a 60° self-supporting angle a 45° chamfer is fine, at 30° it overhangs.
+  io::RawMesh wedge;
+  wedge.points = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}, {0, 0, 10}, {0, 10, 10}};
+  wedge.triangles = {{0, 2, 1}, {0, 3, 2}, {0, 1, 4}, {3, 5, 2}, {1, 2, 5}, {1, 5, 4}, {0, 4, 5}, {0, 5, 3}};
+  Mesh w{wedge.points, wedge.triangles};
+  EXPECT_NEAR(overhang_area(w, {1, 0, 0}, rad30), 0.0, 1e-9);  // the slope faces +x+z
+  const double rad60 = 60.0 * 3.14159265358979323846 / 180.0;
+  EXPECT_NEAR(overhang_area(w, {0, 0, -1}, rad60), 0.0, 1e-9);
+  EXPECT_NEAR(overhang_area(w, {0, 0, -1}, rad30), 100.0 * std::sqrt(2.0), 1e-9);
+}
+
+}  // namespace
+}  // namespace polyaxis::mesh
