@@ -7,12 +7,41 @@
 
 namespace polyaxis::app {
 
+namespace {
+
+// CLI11's number checks let "nan" through (P5): refuse non-finite numbers here.
+const CLI::Validator kFinite(
+    [](std::string& text) -> std::string {
+      try {
+        std::size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(v)) return {};
+      } catch (const std::exception&) {
+      }
+      return "must be a finite number, not '" + text + "'";
+    },
+    "FINITE");
+
+const CLI::Validator kFinitePositive(
+    [](std::string& text) -> std::string {
+      try {
+        std::size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(v) && v > 0.0) return {};
+      } catch (const std::exception&) {
+      }
+      return "must be a finite positive number, not '" + text + "'";
+    },
+    "POSITIVE");
+
+}  // namespace
+
 void add_part_options(CLI::App& command, PartOptions& options) {
   command.add_option("PART", options.path, "Part file: STL (binary or ASCII), OBJ, 3MF, STEP or IGES")->required();
   command.add_option("--scale", options.scale, "Multiply coordinates by this factor (e.g. 1000 for metres, 25.4 for inches)")
-      ->check(CLI::PositiveNumber);
+      ->check(kFinitePositive);
   command.add_option("--merge-mm", options.repair.merge_mm, "Merge vertices closer than this, mm")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+      ->capture_default_str()->check(kFinite & CLI::Range(0.0, 1.0));
   command.add_option("--max-hole-edges", options.repair.max_hole_edges, "Fill holes with at most this many edges")
       ->capture_default_str();
   command.add_flag("--allow-open", options.repair.allow_open, "Keep larger holes open instead of refusing the part");
@@ -22,7 +51,7 @@ void add_part_options(CLI::App& command, PartOptions& options) {
   command.add_option("--max-triangles", options.read.max_triangles, "Refuse files with more triangles than this")
       ->capture_default_str()->check(CLI::PositiveNumber);
   command.add_option("--chordal-mm", options.read.chordal_mm, "STEP/IGES tessellation: largest chord deviation, mm")
-      ->capture_default_str()->check(CLI::Range(1e-6, 10.0));
+      ->capture_default_str()->check(kFinitePositive & CLI::Range(1e-6, 10.0));
 }
 
 core::Result<LoadedPart> load_part(const PartOptions& options) {

@@ -37,6 +37,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <new>
 #include <string_view>
 #include <system_error>
 #include <thread>
@@ -59,6 +60,7 @@ constexpr int kExitOk = 0;
 constexpr int kExitImportError = 3;   // an Error was written
 constexpr int kExitWriteFailed = 4;   // the result file could not be written
 constexpr int kExitException = 5;     // something escaped the importer's own catch
+constexpr int kExitOutOfMemory = 6;   // std::bad_alloc escaped (RLIMIT_AS reached)
 
 constexpr std::uint64_t kMaxMessageBytes = 1u << 20;
 constexpr std::uint64_t kMaxWarnings = 10'000;
@@ -120,7 +122,7 @@ class ResultWriter {
   }
 
  private:
-  static constexpr std::size_t kBufferBytes = 1u << 20;
+  static constexpr std::size_t kBufferBytes = 64u << 10;
 
   void flush() {
     std::size_t done = 0;
@@ -206,6 +208,8 @@ void set_limit(int resource, rlim_t soft, rlim_t hard) {
     static_assert(sizeof(Triangle) == 12);
     out.put(mesh.triangles.data(), mesh.triangles.size() * sizeof(Triangle));
     ::_exit(out.finish() ? kExitOk : kExitWriteFailed);
+  } catch (const std::bad_alloc&) {
+    ::_exit(kExitOutOfMemory);
   } catch (...) {
     ::_exit(kExitException);
   }
@@ -403,6 +407,11 @@ core::Result<ReadResult> read_cad(const std::string& path, Format format, const 
                                                             sig == SIGKILL ? ", possibly out of memory" : "", path));
   }
   const int exit_code = WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : -1;
+  if (exit_code == kExitOutOfMemory) {
+    return make_error(ErrorCode::kInvalidInput,
+                      fmt::format("{} import failed: out of memory (limit {} MiB) on {}", kind,
+                                  options.import_memory_bytes >> 20, path));
+  }
   if (exit_code != kExitOk && exit_code != kExitImportError) {
     return make_error(ErrorCode::kInvalidInput,
                       fmt::format("{} import failed on {}: the import process exited with code {}{}", kind, path,

@@ -43,17 +43,24 @@ bool binary_size_matches(std::size_t size) {
   return size >= kHeaderBytes && (size - kHeaderBytes) % kRecordBytes == 0;
 }
 
-// The body is ASCII STL if, after an optional BOM and whitespace, it says "solid" and the first
-// kilobyte holds no NUL and the word "facet" or "endsolid" appears early on.
+// The body is ASCII STL if, after an optional BOM and whitespace, it says "solid" and the 4 kB
+// after the name line hold no NUL (binary floats nearly always do) up to "endsolid", and "facet"
+// or "endsolid" appears there.
 bool looks_ascii(std::string_view data) {
   if (data.starts_with(kBom)) data.remove_prefix(kBom.size());
   const auto first = data.find_first_not_of(" \t\r\n");
   if (first == std::string_view::npos) return false;
   data.remove_prefix(first);
   if (!data.starts_with("solid")) return false;
-  const std::string_view head = data.substr(0, 4096);
+  // The name after "solid" is opaque (it may hold any byte, F9): judge the text after it.
+  const auto eol = data.find('\n');
+  if (eol == std::string_view::npos) return data.size() < 1024;  // "solid name" alone: an empty ASCII file
+  data.remove_prefix(eol + 1);
+  std::string_view head = data.substr(0, 4096);
+  const auto end = head.find("endsolid");  // its name is opaque too
+  if (end != std::string_view::npos) head = head.substr(0, end);
   if (head.find('\0') != std::string_view::npos) return false;
-  return data.find("facet") != std::string_view::npos || data.find("endsolid") != std::string_view::npos;
+  return end != std::string_view::npos || head.find("facet") != std::string_view::npos;
 }
 
 core::Result<ReadResult> read_binary(std::string_view data, const std::string& name, const ReadOptions& options,

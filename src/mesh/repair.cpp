@@ -13,6 +13,13 @@
 #include "repair_steps.h"
 
 namespace polyaxis::mesh {
+namespace {
+
+// Largest merge distance as a share of the bounding-box diagonal (see repair()).
+constexpr double kMaxMergeShareOfDiagonal = 1e-5;
+
+}  // namespace
+
 namespace detail {
 namespace {
 
@@ -261,7 +268,11 @@ core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options)
   }
 
   report.unused_vertices = detail::remove_unused_vertices(mesh);
-  report.merged_vertices = detail::merge_vertices(mesh, options.merge_mm);
+  // The merge distance never exceeds a small share of the part's size, so that a part drawn in
+  // metres or microns is not collapsed into a point before the unit warning can be given.
+  const double diagonal = norm(bounding_box(mesh).size());
+  const double merge_mm = std::min(options.merge_mm, kMaxMergeShareOfDiagonal * diagonal);
+  report.merged_vertices = detail::merge_vertices(mesh, merge_mm);
   report.degenerate_faces = detail::remove_degenerate_faces(mesh);
   if (mesh.triangles.empty()) return core::make_error(ErrorCode::kInvalidInput, "no geometry: every face is degenerate");
 

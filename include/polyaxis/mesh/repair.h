@@ -14,7 +14,7 @@
 namespace polyaxis::mesh {
 
 struct RepairOptions {
-  double merge_mm = core::kVertexMergeMm;                     // vertices closer than this merge (T9)
+  double merge_mm = core::kVertexMergeMm;  // vertices closer than this merge (T9); capped at 1e-5 × diagonal
   std::uint32_t max_hole_edges = core::kDefaultMaxHoleEdges;  // larger holes are refused (T1)
   bool allow_open = false;             // keep larger holes open instead of refusing the part
   bool strict = false;                 // self-intersections are refused (T6) instead of warned

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -135,6 +136,37 @@ TEST(ReadCad, HangInsideImportTimesOut) {
   ASSERT_FALSE(result.ok());
   EXPECT_EQ(result.error().code, ErrorCode::kInvalidInput);
   EXPECT_NE(result.error().message.find("timed out"), std::string::npos) << result.error().message;
+}
+
+TEST(ReadCad, MemoryLimitStopsTheImport) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer builds do not set RLIMIT_AS in the import process";
+#endif
+  ReadOptions options;
+  options.import_memory_bytes = 16u << 20;  // below what the loaded libraries already map
+  const auto result = read_cad(corpus("cube.step"), Format::kStep, options);
+  ASSERT_FALSE(result.ok());
+  EXPECT_EQ(result.error().code, ErrorCode::kInvalidInput);
+  EXPECT_NE(result.error().message.find("memory"), std::string::npos) << result.error().message;
+}
+
+TEST(ReadCad, EmptyDataSectionIsNoGeometry) {
+  // A valid header and an empty DATA section: the "empty entity set" of F16.
+  char path[] = "/tmp/polyaxis-test-empty-XXXXXX.step";
+  const int fd = ::mkstemps(path, 5);
+  ASSERT_GE(fd, 0);
+  const std::string text =
+      "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\nFILE_NAME('','',(''),(''),'','','');\n"
+      "FILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\nENDSEC;\nDATA;\nENDSEC;\nEND-ISO-10303-21;\n";
+  const bool written = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+  ::close(fd);
+  const auto result = read_cad(path, Format::kStep);
+  ::unlink(path);
+  ASSERT_TRUE(written);
+  ASSERT_FALSE(result.ok());
+  EXPECT_EQ(result.error().code, ErrorCode::kInvalidInput);
+  EXPECT_NE(result.error().message.find("STEP import failed"), std::string::npos) << result.error().message;
+  EXPECT_NE(result.error().message.find("no solid or surface"), std::string::npos) << result.error().message;
 }
 
 TEST(ReadCad, TriangleCapIsEnforced) {
