@@ -4,7 +4,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <set>
 
 #include "repair_steps.h"
 
@@ -13,14 +15,24 @@ namespace {
 
 double triangle_area(Vec3 a, Vec3 b, Vec3 c) { return norm(cross(b - a, c - a)) / 2.0; }
 
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+}
+
 // Appends the triangles of the minimum-area triangulation of LOOP, reversed so that their edges
-// run against the loop (the loop follows the existing faces' half-edges).
-void triangulate_loop(const Mesh& mesh, const std::vector<std::uint32_t>& loop, std::vector<Triangle>& out) {
+// run against the loop (the loop follows the existing faces' half-edges). A diagonal that is
+// already an edge of the mesh is never used (it would make that edge non-manifold); when no
+// triangulation avoids them, the loop is closed by a fan around a new centre vertex.
+void triangulate_loop(Mesh& mesh, const std::vector<std::uint32_t>& loop, const std::set<std::uint64_t>& existing,
+                      std::vector<Triangle>& out) {
   const std::size_t n = loop.size();
   if (n == 3) {
     out.push_back({loop[2], loop[1], loop[0]});
     return;
   }
+  auto forbidden = [&](std::size_t i, std::size_t k) {  // (i, k) a diagonal, not a loop edge
+    return !(k == i + 1 || (i == 0 && k == n - 1)) && existing.count(edge_key(loop[i], loop[k])) > 0;
+  };
   std::vector<double> w(n * n, 0.0);
   std::vector<std::uint32_t> best(n * n, 0);
   auto at = [n](std::size_t i, std::size_t k) { return i * n + k; };
@@ -30,6 +42,7 @@ void triangulate_loop(const Mesh& mesh, const std::vector<std::uint32_t>& loop, 
       double lowest = std::numeric_limits<double>::infinity();
       std::size_t arg = i + 1;
       for (std::size_t m = i + 1; m < k; ++m) {
+        if (forbidden(i, m) || forbidden(m, k)) continue;
         const double cost = w[at(i, m)] + w[at(m, k)] +
                             triangle_area(mesh.vertices[loop[i]], mesh.vertices[loop[m]], mesh.vertices[loop[k]]);
         if (cost < lowest) lowest = cost, arg = m;
@@ -37,6 +50,14 @@ void triangulate_loop(const Mesh& mesh, const std::vector<std::uint32_t>& loop, 
       w[at(i, k)] = lowest;
       best[at(i, k)] = static_cast<std::uint32_t>(arg);
     }
+  }
+  if (!std::isfinite(w[at(0, n - 1)])) {
+    Vec3 centre{};
+    for (auto v : loop) centre = centre + mesh.vertices[v];
+    const auto c = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.push_back(centre / static_cast<double>(n));
+    for (std::size_t i = 0; i < n; ++i) out.push_back({loop[(i + 1) % n], loop[i], c});
+    return;
   }
   std::vector<std::pair<std::size_t, std::size_t>> stack{{0, n - 1}};
   while (!stack.empty()) {
@@ -61,6 +82,16 @@ core::Result<HoleStats> fill_holes(Mesh& mesh, const EdgeTopology& topo, std::ve
   std::vector<std::uint32_t> out_of(mesh.vertices.size(), kNoHalfEdge);
   for (std::uint32_t h = 0; h < nh; ++h) {
     if (topo.opposite[h] == kNoHalfEdge) out_of[half_edge_from(mesh, h)] = h;
+  }
+  // Edges between boundary vertices that the fill must not repeat.
+  std::vector<char> on_boundary(mesh.vertices.size(), 0);
+  for (std::uint32_t h = 0; h < nh; ++h) {
+    if (topo.opposite[h] == kNoHalfEdge) on_boundary[half_edge_from(mesh, h)] = 1;
+  }
+  std::set<std::uint64_t> existing;
+  for (std::uint32_t h = 0; h < nh; ++h) {
+    const std::uint32_t a = half_edge_from(mesh, h), b = half_edge_to(mesh, h);
+    if (on_boundary[a] && on_boundary[b]) existing.insert(edge_key(a, b));
   }
   std::vector<char> used(nh, 0);
   std::vector<std::uint32_t> loop;
@@ -94,7 +125,10 @@ core::Result<HoleStats> fill_holes(Mesh& mesh, const EdgeTopology& topo, std::ve
                                           loop.size(), p.x, p.y, p.z, max_edges));
     }
     const std::size_t before = added.size();
-    triangulate_loop(mesh, loop, added);
+    triangulate_loop(mesh, loop, existing, added);
+    for (std::size_t i = before; i < added.size(); ++i) {
+      for (int e = 0; e < 3; ++e) existing.insert(edge_key(added[i][static_cast<std::size_t>(e)], added[i][static_cast<std::size_t>((e + 1) % 3)]));
+    }
     for (std::size_t i = before; i < added.size(); ++i) component.push_back(component[start / 3]);
     ++stats.filled;
   }

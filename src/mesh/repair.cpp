@@ -302,6 +302,10 @@ core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options)
   out.shells = detail::build_shells(mesh, component, report.open_holes == 0, report);
   report.unused_vertices += detail::remove_unused_vertices(mesh);
   topo = build_topology(mesh);
+  if (topo.nonmanifold_edges > 0) {
+    return core::make_error(ErrorCode::kInfeasible,
+                            fmt::format("{} non-manifold edges after filling holes: the holes touch each other", topo.nonmanifold_edges));
+  }
   out.watertight = topo.closed();
   out.manifold = topo.nonmanifold_edges == 0;
 
