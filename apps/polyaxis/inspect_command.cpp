@@ -30,8 +30,8 @@ int run_inspect(const InspectOptions& options) {
   const mesh::Mesh& m = part.repaired.mesh;
   const mesh::RepairReport& r = part.repaired.report;
   const core::Box3 box = mesh::bounding_box(m);
-  const double volume = mesh::signed_volume(m);
-  const double area = mesh::surface_area(m);
+  double volume = 0.0, area = 0.0;  // repair measured every shell already
+  for (const auto& s : part.repaired.shells) volume += s.volume_mm3, area += s.area_mm2;
   const double overhang = mesh::overhang_area(m, {0, 0, 1}, options.self_supporting_deg * kPi / 180.0);
   std::size_t cavities = 0;
   for (const auto& s : part.repaired.shells) cavities += s.cavity ? 1 : 0;

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   using namespace polyaxis;
   CLI::App app{"polyaxis: process planner for multi-axis layered manufacturing"};
   app.require_subcommand(1);
+  app.fallthrough();  // --quiet works before or after the subcommand
   app.set_version_flag("--version", "polyaxis 0.1.0");
   bool quiet = false;
   app.add_flag("-q,--quiet", quiet, "No progress output on stderr");

@@ -1,6 +1,8 @@
 #include "point_welder.h"
 
+#include <algorithm>
 #include <bit>
+#include <iterator>
 #include <cstring>
 
 namespace polyaxis::io {
@@ -26,6 +28,7 @@ std::uint64_t hash_point(core::Vec3 p) {
 }  // namespace
 
 PointWelder::PointWelder(std::vector<core::Vec3>& points, std::size_t expected_points) : points_(points) {
+  std::fill(std::begin(recent_), std::end(recent_), kEmpty);
   std::size_t capacity = 1024;
   while (capacity < 2 * expected_points) capacity *= 2;
   slots_.assign(capacity, kEmpty);
@@ -39,18 +42,21 @@ PointWelder::PointWelder(std::vector<core::Vec3>& points, std::size_t expected_p
 
 std::uint32_t PointWelder::index_of(core::Vec3 p) {
   p = {p.x + 0.0, p.y + 0.0, p.z + 0.0};
-  std::uint64_t s = hash_point(p) & mask_;
+  const std::uint64_t h = hash_point(p);
+  std::uint32_t& cached = recent_[(h >> 40) % kRecent];
+  if (cached != kEmpty && points_[cached] == p) return cached;
+  std::uint64_t s = h & mask_;
   while (true) {
     const std::uint32_t i = slots_[s];
     if (i == kEmpty) break;
-    if (points_[i] == p) return i;
+    if (points_[i] == p) return cached = i;
     s = (s + 1) & mask_;
   }
   const auto index = static_cast<std::uint32_t>(points_.size());
   points_.push_back(p);
   slots_[s] = index;
   if (2 * points_.size() > slots_.size()) grow();
-  return index;
+  return cached = index;
 }
 
 void PointWelder::grow() {

@@ -23,6 +23,10 @@ class PointWelder {
   std::vector<core::Vec3>& points_;
   std::vector<std::uint32_t> slots_;  // open addressing, linear probing; kEmpty marks a free slot
   std::uint64_t mask_ = 0;
+  // Direct-mapped cache of recently seen points: neighbouring facets of a file share corners, so
+  // most repeats are found here without touching the large table.
+  static constexpr std::size_t kRecent = 4096;
+  std::uint32_t recent_[kRecent];
 };
 
 }  // namespace polyaxis::io

@@ -35,7 +35,8 @@ class MappedFile {
   core::Status open(int fd, std::size_t size, const std::string& path) {
     size_ = size;
     if (size == 0) return {};
-    void* addr = mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
+    // MAP_POPULATE: one bulk fault instead of one per page for a file read front to back.
+    void* addr = mmap(nullptr, size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
     if (addr == MAP_FAILED) {
       return make_error(ErrorCode::kInvalidInput, fmt::format("{}: cannot map file: {}", path, std::strerror(errno)));
     }

@@ -49,7 +49,7 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 std::uint64_t merge_vertices(Mesh& mesh, double tol_mm) {
   const std::size_t n = mesh.vertices.size();
   if (tol_mm <= 0.0 || n < 2) return 0;
-  const double cell = 4.0 * tol_mm;
+  const double cell = 16.0 * tol_mm;  // a point is within tol of a cell face with probability 1/8
   constexpr std::uint32_t kEmpty = 0xffffffffu;
   std::vector<Cell> cells(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -299,15 +299,18 @@ core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options)
   report.hole_faces_added = holes.value().faces_added;
   report.open_holes = holes.value().left_open;
 
+  if (report.hole_faces_added > 0) {  // the fill must have closed the loops without new defects
+    topo = build_topology(mesh);
+    if (topo.nonmanifold_edges > 0) {
+      return core::make_error(ErrorCode::kInfeasible,
+                              fmt::format("{} non-manifold edges after filling holes: the holes touch each other", topo.nonmanifold_edges));
+    }
+  }
+  // Every non-manifold edge was split (or refused) above; only holes kept open leave boundaries.
+  out.watertight = topo.boundary_edges == 0;
+  out.manifold = topo.nonmanifold_edges == 0;
   out.shells = detail::build_shells(mesh, component, report.open_holes == 0, report);
   report.unused_vertices += detail::remove_unused_vertices(mesh);
-  topo = build_topology(mesh);
-  if (topo.nonmanifold_edges > 0) {
-    return core::make_error(ErrorCode::kInfeasible,
-                            fmt::format("{} non-manifold edges after filling holes: the holes touch each other", topo.nonmanifold_edges));
-  }
-  out.watertight = topo.closed();
-  out.manifold = topo.nonmanifold_edges == 0;
 
   if (options.check_self_intersections) {
     out.self_intersecting = self_intersecting_faces(mesh);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <deque>
 #include <numeric>
+#include <span>
 
 #include "polyaxis/mesh/properties.h"
 #include "repair_steps.h"
@@ -45,7 +46,6 @@ constexpr double kFourPi = 4.0 * 3.14159265358979323846;
 constexpr std::size_t kMaxShellsForNesting = 2000;  // nesting is pairwise: bound the cost
 
 struct ComponentInfo {
-  std::vector<std::uint32_t> faces;
   double volume = 0.0;
   double area = 0.0;
   core::Box3 box;
@@ -138,29 +138,43 @@ core::Result<std::uint64_t> orient_faces(Mesh& mesh, const EdgeTopology& topo, s
 }
 
 std::vector<Shell> build_shells(Mesh& mesh, const std::vector<std::uint32_t>& component, bool closed, RepairReport& report) {
+  const std::size_t nf = mesh.triangles.size();
   std::uint32_t count = 0;
   for (auto c : component) count = std::max(count, c + 1);
   std::vector<ComponentInfo> info(count);
-  for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) info[component[f]].faces.push_back(f);
-  for (ComponentInfo& ci : info) {
-    for (auto f : ci.faces) {
-      for (int k = 0; k < 3; ++k) ci.box.add(mesh.corner(f, k));
-    }
-    const Vec3 o = (ci.box.min + ci.box.max) * 0.5;
-    double six_v = 0.0, twice_a = 0.0;
-    for (auto f : ci.faces) {
-      six_v += dot(mesh.corner(f, 0) - o, cross(mesh.corner(f, 1) - o, mesh.corner(f, 2) - o));
-      twice_a += norm(face_area_vector(mesh, f));
-    }
-    ci.volume = six_v / 6.0;
-    ci.area = twice_a / 2.0;
+  // Faces grouped by component (a counting sort), keeping face order within each.
+  std::vector<std::uint32_t> start(count + 1, 0);
+  for (auto c : component) ++start[c + 1];
+  for (std::uint32_t c = 0; c < count; ++c) start[c + 1] += start[c];
+  std::vector<std::uint32_t> by_component(nf);
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t f = 0; f < nf; ++f) by_component[fill[component[f]]++] = f;
+  }
+  auto faces_of = [&](std::uint32_t c) {
+    return std::span<const std::uint32_t>(by_component.data() + start[c], start[c + 1] - start[c]);
+  };
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) info[component[f]].box.add(mesh.corner(f, k));
+  }
+  std::vector<double> six_v(count, 0.0), twice_a(count, 0.0);
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint32_t c = component[f];
+    const Vec3 o = (info[c].box.min + info[c].box.max) * 0.5;
+    const Vec3 a = mesh.corner(f, 0) - o, b = mesh.corner(f, 1) - o, d = mesh.corner(f, 2) - o;
+    six_v[c] += dot(a, cross(b, d));
+    twice_a[c] += norm(cross(b - a, d - a));
+  }
+  for (std::uint32_t c = 0; c < count; ++c) {
+    info[c].volume = six_v[c] / 6.0;
+    info[c].area = twice_a[c] / 2.0;
   }
   if (closed && count > 1 && count <= kMaxShellsForNesting) {
     for (std::uint32_t s = 0; s < count; ++s) {
       // Probe point: the centroid of the shell's largest face.
-      std::uint32_t best = info[s].faces.front();
+      std::uint32_t best = faces_of(s).front();
       double best_area = -1.0;
-      for (auto f : info[s].faces) {
+      for (auto f : faces_of(s)) {
         const double a = norm(face_area_vector(mesh, f));
         if (a > best_area) best_area = a, best = f;
       }
@@ -170,48 +184,52 @@ std::vector<Shell> build_shells(Mesh& mesh, const std::vector<std::uint32_t>& co
         const core::Box3& b = info[t].box;
         if (p.x < b.min.x || p.x > b.max.x || p.y < b.min.y || p.y > b.max.y || p.z < b.min.z || p.z > b.max.z) continue;
         double omega = 0.0;
-        for (auto f : info[t].faces) omega += solid_angle(mesh.corner(f, 0) - p, mesh.corner(f, 1) - p, mesh.corner(f, 2) - p);
+        for (auto f : faces_of(t)) omega += solid_angle(mesh.corner(f, 0) - p, mesh.corner(f, 1) - p, mesh.corner(f, 2) - p);
         if (std::fabs(omega / kFourPi) > core::kInsideWindingNumber) ++info[s].depth;
       }
     }
   }
-  std::vector<Shell> shells;
-  std::vector<Triangle> ordered;
-  ordered.reserve(mesh.triangles.size());
-  std::vector<std::uint32_t> order(count);
-  std::iota(order.begin(), order.end(), 0u);
-  for (ComponentInfo& ci : info) {
+  for (std::uint32_t c = 0; c < count; ++c) {
+    ComponentInfo& ci = info[c];
     const bool inside = ci.depth % 2 == 1;
     if (!inside && ci.volume < 0.0) {  // T3: inside-out solid
-      for (auto f : ci.faces) std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
+      for (auto f : faces_of(c)) std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
       ci.volume = -ci.volume;
       ++report.inverted_shells;
-      report.flipped_faces += ci.faces.size();
+      report.flipped_faces += faces_of(c).size();
     } else if (inside && ci.volume > 0.0) {  // T8: same orientation inside another: union drops it
       ci.drop = true;
       ++report.interior_shells_removed;
     }
   }
   // Solids by descending volume, then cavities by descending |volume|; ties by component id.
+  std::vector<std::uint32_t> order(count);
+  std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     const bool ca = info[a].volume < 0.0, cb = info[b].volume < 0.0;
     if (ca != cb) return !ca;
     return std::fabs(info[a].volume) > std::fabs(info[b].volume);
   });
+  std::vector<Shell> shells;
+  std::vector<Triangle> ordered;
+  const bool reorder = count > 1;  // one component: faces are already in shell order
+  if (reorder) ordered.reserve(nf);
   for (auto id : order) {
     const ComponentInfo& ci = info[id];
     if (ci.drop) continue;
     Shell shell;
-    shell.first_face = static_cast<std::uint32_t>(ordered.size());
-    shell.face_count = static_cast<std::uint32_t>(ci.faces.size());
+    shell.first_face = reorder ? static_cast<std::uint32_t>(ordered.size()) : 0;
+    shell.face_count = static_cast<std::uint32_t>(faces_of(id).size());
     shell.volume_mm3 = ci.volume;
     shell.area_mm2 = ci.area;
     shell.cavity = ci.volume < 0.0;
     shell.closed = closed;
-    for (auto f : ci.faces) ordered.push_back(mesh.triangles[f]);
+    if (reorder) {
+      for (auto f : faces_of(id)) ordered.push_back(mesh.triangles[f]);
+    }
     shells.push_back(shell);
   }
-  mesh.triangles = std::move(ordered);
+  if (reorder) mesh.triangles = std::move(ordered);
   return shells;
 }
 

@@ -38,8 +38,9 @@ struct Box3 {
 
   bool empty() const { return !(min.x <= max.x); }
   void add(Vec3 p) {
-    min = {std::fmin(min.x, p.x), std::fmin(min.y, p.y), std::fmin(min.z, p.z)};
-    max = {std::fmax(max.x, p.x), std::fmax(max.y, p.y), std::fmax(max.z, p.z)};
+    // Points are finite (readers refuse NaN), so plain comparisons suffice.
+    min = {p.x < min.x ? p.x : min.x, p.y < min.y ? p.y : min.y, p.z < min.z ? p.z : min.z};
+    max = {p.x > max.x ? p.x : max.x, p.y > max.y ? p.y : max.y, p.z > max.z ? p.z : max.z};
   }
   Vec3 size() const { return empty() ? Vec3{} : max - min; }
 };
