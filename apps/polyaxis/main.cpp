@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   bool quiet = false;
   app.add_flag("-q,--quiet", quiet, "No progress output on stderr");
   const app::Runner inspect = app::add_inspect_command(app);
+  const app::Runner slice = app::add_slice_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
   core::set_progress_mode(quiet ? core::ProgressMode::kQuiet : core::ProgressMode::kAuto);
   try {
     if (app.got_subcommand("inspect")) return inspect();
+    if (app.got_subcommand("slice")) return slice();
     return 2;
   } catch (const core::InvariantError& e) {
     std::fprintf(stderr, "polyaxis: internal error: %s\n", e.what());

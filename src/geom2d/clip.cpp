@@ -72,6 +72,7 @@ std::vector<Polygon> from_tree(const ClipperLib::PolyTree& tree) {
 
 std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_rule) {
   ClipperLib::Clipper clipper;
+  clipper.StrictlySimple(true);  // loops that touch themselves come out as separate simple rings
   for (const Ring& r : rings) {
     if (r.size() >= 3) clipper.AddPath(to_path(r), ClipperLib::ptSubject, true);
   }
@@ -79,6 +80,29 @@ std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_r
   const auto rule = fill_rule == FillRule::kNonZero ? ClipperLib::pftNonZero : ClipperLib::pftEvenOdd;
   clipper.Execute(ClipperLib::ctUnion, tree, rule, rule);
   return from_tree(tree);
+}
+
+namespace {
+
+std::vector<Polygon> boolean(ClipperLib::ClipType op, const std::vector<Ring>& a, const std::vector<Ring>& b) {
+  ClipperLib::Clipper clipper;
+  clipper.StrictlySimple(true);
+  for (const Ring& r : a) {
+    if (r.size() >= 3) clipper.AddPath(to_path(r), ClipperLib::ptSubject, true);
+  }
+  for (const Ring& r : b) {
+    if (r.size() >= 3) clipper.AddPath(to_path(r), ClipperLib::ptClip, true);
+  }
+  ClipperLib::PolyTree tree;
+  clipper.Execute(op, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  return from_tree(tree);
+}
+
+}  // namespace
+
+std::vector<Polygon> xor_rings(const std::vector<Ring>& a, const std::vector<Ring>& b) { return boolean(ClipperLib::ctXor, a, b); }
+std::vector<Polygon> difference_rings(const std::vector<Ring>& a, const std::vector<Ring>& b) {
+  return boolean(ClipperLib::ctDifference, a, b);
 }
 
 std::vector<Polygon> offset(const std::vector<Polygon>& polygons, double delta_mm) {

@@ -60,6 +60,10 @@ constexpr std::uint64_t kMaxZipEntries = 100'000;
 constexpr double kSingularTransformRatio = 1e-9;
 // Component nesting deeper than this is refused; real files nest two or three levels.
 constexpr int kMaxComponentDepth = 64;
+// Component instances (paths from an object to its meshes) allowed per object. lib3mf 1.8 walks
+// every path while reading (about 50 ns each), so a 1.4 kB file of 40 objects that each use the
+// previous one twice would keep it busy for hours; this bounds that walk to about 0.05 s.
+constexpr std::uint64_t kMaxComponentInstances = 1'000'000;
 
 constexpr std::string_view kCoreNamespace = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02";
 
@@ -384,9 +388,12 @@ std::optional<std::uint64_t> parse_index(std::optional<std::string_view> text) {
   return value;
 }
 
+// Component graph of one model part: object id -> ids of the objects its components use.
+using ComponentGraph = std::map<std::string, std::vector<std::string>, std::less<>>;
+
 // A cycle in the component graph, as "a -> b -> a", if there is one. Iterative depth-first
 // search, so a long chain cannot overflow the stack.
-std::optional<std::string> find_cycle(const std::map<std::string, std::vector<std::string>, std::less<>>& children) {
+std::optional<std::string> find_cycle(const ComponentGraph& children) {
   enum class Mark { kNew, kOnPath, kDone };
   std::map<std::string_view, Mark> marks;
   for (const auto& [root, unused] : children) {
@@ -418,6 +425,58 @@ std::optional<std::string> find_cycle(const std::map<std::string, std::vector<st
   return std::nullopt;
 }
 
+// Counts component instances below each object (memoised, so linear in the graph) and says why
+// the graph is refused: nesting deeper than kMaxComponentDepth or more than
+// kMaxComponentInstances instances. The graph must be acyclic (find_cycle first).
+class ExpansionCheck {
+ public:
+  explicit ExpansionCheck(const ComponentGraph& children) : children_(children) {}
+
+  // Checks every object, then the sum over the build items ITEMS (lib3mf walks each item's tree).
+  std::optional<std::string> run(const std::vector<std::string>& items) {
+    for (const auto& entry : children_) {
+      visit(entry.first, 0);
+      if (why_) return why_;
+    }
+    std::uint64_t total = 0;
+    for (const std::string& item : items) {
+      total += visit(item, 0);
+      if (why_) return why_;
+      if (total > kMaxComponentInstances) {
+        return fmt::format("build items expand to more than {} component instances", kMaxComponentInstances);
+      }
+    }
+    return why_;
+  }
+
+ private:
+  std::uint64_t visit(std::string_view id, int depth) {
+    if (why_) return 0;
+    if (const auto it = instances_.find(id); it != instances_.end()) return it->second;
+    if (depth > kMaxComponentDepth) {
+      why_ = fmt::format("components nest deeper than {} levels (at object {})", kMaxComponentDepth, id);
+      return 0;
+    }
+    std::uint64_t total = 1;
+    if (const auto it = children_.find(id); it != children_.end()) {
+      for (const std::string& child : it->second) {
+        total += std::min(visit(child, depth + 1), kMaxComponentInstances + 1);
+        if (why_) return 0;
+        if (total > kMaxComponentInstances) {
+          why_ = fmt::format("object {} expands to more than {} component instances", id, kMaxComponentInstances);
+          return 0;
+        }
+      }
+    }
+    instances_.emplace(id, total);
+    return total;
+  }
+
+  const ComponentGraph& children_;
+  std::map<std::string_view, std::uint64_t> instances_;
+  std::optional<std::string> why_;
+};
+
 struct ScanTotals {
   std::uint64_t triangle_elements = 0;
 };
@@ -442,6 +501,7 @@ core::Status scan_model_part(ModelPart& part, const std::string& name, const Rea
   const std::string vertex_name = *prefix + "vertex";
   const std::string triangle_name = *prefix + "triangle";
   const std::string component_name = *prefix + "component";
+  const std::string item_name = *prefix + "item";
 
   std::string object_id = "?";
   std::uint64_t vertex_count = 0;
@@ -449,7 +509,8 @@ core::Status scan_model_part(ModelPart& part, const std::string& name, const Rea
   std::uint64_t dropped_in_object = 0;
   std::string first_dropped;
   std::vector<std::pair<std::size_t, std::size_t>> cuts;
-  std::map<std::string, std::vector<std::string>, std::less<>> children;  // component graph of this part
+  ComponentGraph children;
+  std::vector<std::string> items;  // object ids of the build items in this part
 
   const auto flush_object_warning = [&] {
     if (dropped_in_object == 0) return;
@@ -467,12 +528,16 @@ core::Status scan_model_part(ModelPart& part, const std::string& name, const Rea
       object_id = std::string(tag.attribute("id").value_or("?"));
       vertex_count = 0;
       triangle_index = 0;
-    } else if (tag.name == component_name) {
-      // A component naming another part (production extension p:path) is outside this graph.
+    } else if (tag.name == component_name || tag.name == item_name) {
+      // A reference into another part (production extension p:path) is outside this graph.
       const bool other_part = std::any_of(tag.attributes.begin(), tag.attributes.end(),
                                           [](const auto& kv) { return kv.first.ends_with(":path"); });
-      if (const auto child = tag.attribute("objectid"); child && !other_part) {
-        children[object_id].emplace_back(*child);
+      if (const auto target = tag.attribute("objectid"); target && !other_part) {
+        if (tag.name == item_name) {
+          items.emplace_back(*target);
+        } else {
+          children[object_id].emplace_back(*target);
+        }
       }
     } else if (tag.name == vertex_name) {
       ++vertex_count;
@@ -509,6 +574,7 @@ core::Status scan_model_part(ModelPart& part, const std::string& name, const Rea
   if (auto cycle = find_cycle(children)) {
     return invalid(fmt::format("{}: {}: component cycle: object {}", name, part.path, *cycle));
   }
+  if (auto why = ExpansionCheck(children).run(items)) return invalid(fmt::format("{}: {}: {}", name, part.path, *why));
 
   if (!cuts.empty()) {
     std::string kept;

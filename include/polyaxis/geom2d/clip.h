@@ -14,6 +14,10 @@ enum class FillRule { kEvenOdd, kNonZero };
 // fill rule (RELIABILITY T6 uses kNonZero).
 std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_rule);
 
+// Symmetric difference and difference of two sets of rings, each read under the nonzero rule.
+std::vector<Polygon> xor_rings(const std::vector<Ring>& a, const std::vector<Ring>& b);
+std::vector<Polygon> difference_rings(const std::vector<Ring>& a, const std::vector<Ring>& b);
+
 // Offsets POLYGONS by DELTA_MM (negative shrinks) with mitred corners limited to 2·|delta|.
 std::vector<Polygon> offset(const std::vector<Polygon>& polygons, double delta_mm);
 

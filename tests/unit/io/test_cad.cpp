@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <numbers>
 #include <string>
 
 #include "polyaxis/core/vec3.h"
@@ -81,7 +82,7 @@ TEST(ReadCad, StepCylinderVolumeConvergesWithChordalTolerance) {
   options.chordal_mm = 0.001;
   const auto result = read_cad(corpus("cylinder.step"), Format::kStep, options);
   ASSERT_TRUE(result.ok()) << result.error().message;
-  const double exact = M_PI * 25.0 * 10.0;
+  const double exact = std::numbers::pi * 25.0 * 10.0;
   const double volume = signed_volume(result.value().mesh);
   EXPECT_LE(volume, exact + 1e-9);
   EXPECT_GE(volume, exact * (1.0 - 2.0 * options.chordal_mm / 5.0));

@@ -223,6 +223,35 @@ TEST(Read3mf, ComponentCycle) {
   expect_error(read_3mf(package(model_xml(self, R"(<item objectid="3"/>)")), "part.3mf"), "cycle");
 }
 
+// Objects 2..LEVELS+1, each using the previous one COPIES times: COPIES^LEVELS instances of the cube.
+std::string component_tower(int levels, int copies) {
+  std::string objects = cube_object(1);
+  for (int id = 2; id <= levels + 1; ++id) {
+    objects += "<object id=\"" + std::to_string(id) + "\" type=\"model\"><components>";
+    for (int c = 0; c < copies; ++c) objects += "<component objectid=\"" + std::to_string(id - 1) + "\"/>";
+    objects += "</components></object>";
+  }
+  return model_xml(objects, "<item objectid=\"" + std::to_string(levels + 1) + "\"/>");
+}
+
+TEST(Read3mf, ComponentExpansionIsRefusedBeforeLib3mfWalksIt) {
+  // 2^40 instances in about 1.5 kB; lib3mf 1.8 alone would walk every one of them for hours.
+  expect_error(read_3mf(package(component_tower(40, 2)), "part.3mf"), "component instances");
+  // lib3mf walks the tree once per build item: 64 items of 2^15 instances each is 2^21 in all.
+  std::string model = component_tower(15, 2);
+  std::string items;
+  for (int i = 0; i < 64; ++i) items += "<item objectid=\"16\"/>";
+  model.replace(model.find("<item"), std::string("<item objectid=\"16\"/>").size(), items);
+  expect_error(read_3mf(package(model), "part.3mf"), "build items expand");
+}
+
+TEST(Read3mf, DeepComponentNestingIsRefused) {
+  expect_error(read_3mf(package(component_tower(100, 1)), "part.3mf"), "nest deeper");
+  const auto ok = read_3mf(package(component_tower(30, 1)), "part.3mf");
+  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  EXPECT_EQ(ok.value().mesh.triangles.size(), 12u);
+}
+
 TEST(Read3mf, SingularBuildItemTransform) {
   expect_error(
       read_3mf(package(model_xml(cube_object(1), R"(<item objectid="1" transform="1 0 0 0 1 0 0 0 0 0 0 0"/>)")),
@@ -286,7 +315,7 @@ TEST(Read3mf, TriangleCapCountsComponentInstances) {
 
 TEST(Read3mf, EveryTruncatedPrefixFailsCleanly) {
   const std::string archive = package(model_xml(cube_object(1), R"(<item objectid="1"/>)"));
-  for (std::size_t n = 0; n < archive.size(); n += 7) {
+  for (std::size_t n = 0; n < archive.size(); ++n) {
     const auto result = read_3mf(std::string_view(archive).substr(0, n), "part.3mf");
     ASSERT_FALSE(result.ok()) << "prefix " << n;
     EXPECT_EQ(result.error().code, ErrorCode::kInvalidInput) << "prefix " << n;

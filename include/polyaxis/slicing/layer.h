@@ -1,0 +1,42 @@
+// A layer: a planar section of a part with its plane, frame and thickness.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "polyaxis/core/vec3.h"
+#include "polyaxis/geom2d/polygon.h"
+
+namespace polyaxis::slicing {
+
+using core::Vec3;
+
+// A right-handed orthonormal frame (u, v, d): d is the plane normal (build direction), u and v span
+// the plane. Section polygons are in (u, v) coordinates relative to `origin`.
+struct Frame {
+  Vec3 origin;          // a point of the plane, mm
+  Vec3 u{1, 0, 0};
+  Vec3 v{0, 1, 0};
+  Vec3 d{0, 0, 1};
+
+  Vec3 to_world(double u_mm, double v_mm) const { return origin + u * u_mm + v * v_mm; }
+};
+
+// The frame of planes normal to DIRECTION (any non-zero vector; normalised here) at signed
+// height HEIGHT_MM along it: origin = height·d; u is the world X axis projected onto the plane
+// (the Y axis when d is within ~25° of X), v = d × u. For d = +Z this is the world frame.
+Frame plane_frame(Vec3 direction, double height_mm);
+
+struct Layer {
+  std::uint32_t index = 0;
+  Frame frame;              // the section plane (the layer's mid-plane)
+  double height_mm = 0.0;   // the plane's signed height along d
+  double below_mm = 0.0;    // the layer spans [height - below, height + above] along d
+  double above_mm = 0.0;
+  std::vector<geom2d::Polygon> polygons;  // outer CCW, holes CW, strictly simple, canonical order
+  double area_mm2 = 0.0;
+
+  double thickness_mm() const { return below_mm + above_mm; }
+};
+
+}  // namespace polyaxis::slicing

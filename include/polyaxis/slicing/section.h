@@ -1,0 +1,71 @@
+// Planar sections of a closed mesh along a direction d. Topology rests on one classification per
+// vertex and plane, never on a distance tolerance:
+//
+//   Tie rule: a vertex is ABOVE the plane at height h when s(v) = p(v)·d >= h, else BELOW.
+//   (A vertex on the plane counts as above: the plane is perturbed symbolically downwards.)
+//
+// A triangle is crossed when it has corners on both sides; each of its edges whose ends differ
+// is crossed once, at a point constructed from the edge's ends in a fixed order, so the two faces
+// of an edge agree. Each crossed triangle gives one segment, from the crossing on its
+// above-to-below edge to the crossing on its below-to-above edge (in the face's corner order);
+// with outward faces, solid lies to the left, so outer loops run counter-clockwise in (u, v) and
+// holes clockwise. Segments are chained through the shared mesh edges, which closes every loop
+// on a closed manifold mesh for any d.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "polyaxis/geom2d/polygon.h"
+#include "polyaxis/mesh/mesh.h"
+#include "polyaxis/mesh/topology.h"
+#include "polyaxis/slicing/layer.h"
+
+namespace polyaxis::slicing {
+
+// What a section needs of a mesh, computed once per direction: heights of vertices along d,
+// edge adjacency, the frame axes.
+class SectionContext {
+ public:
+  // MESH must outlive the context. Precondition: closed, manifold, consistently oriented
+  // (mesh::repair output). Cost: O(V + F).
+  SectionContext(const mesh::Mesh& mesh, Vec3 direction);
+
+  const mesh::Mesh& mesh() const { return mesh_; }
+  const mesh::EdgeTopology& topology() const { return topology_; }
+  Vec3 direction() const { return d_; }
+  double height(std::uint32_t vertex) const { return height_[vertex]; }
+  double min_height() const { return min_; }
+  double max_height() const { return max_; }
+  // Lowest and highest corner height of face F.
+  double face_min(std::uint32_t f) const { return face_min_[f]; }
+  double face_max(std::uint32_t f) const { return face_max_[f]; }
+
+ private:
+  const mesh::Mesh& mesh_;
+  mesh::EdgeTopology topology_;
+  Vec3 d_;
+  std::vector<double> height_;
+  std::vector<double> face_min_, face_max_;
+  double min_ = 0.0, max_ = 0.0;
+};
+
+// Reusable per-thread memory for sections (a slot per half-edge).
+struct SectionScratch {
+  std::vector<std::uint32_t> segment_of_start;  // half-edge -> segment starting there
+};
+
+struct SectionResult {
+  std::vector<geom2d::Polygon> polygons;  // nonzero union of the loops (RELIABILITY T6)
+  double area_mm2 = 0.0;
+  std::uint32_t open_chains = 0;          // chains that did not close (an open mesh)
+};
+
+// The section of the context's mesh by the plane at height H_MM, in FRAME's (u, v) coordinates
+// (frame.d must be the context's direction). CANDIDATES: faces that may cross the plane (a
+// superset is fine; the tie rule decides). Cost: O(|candidates| + k log k) for k crossings.
+SectionResult section(const SectionContext& context, double h_mm, const Frame& frame, std::span<const std::uint32_t> candidates,
+                      SectionScratch& scratch);
+
+}  // namespace polyaxis::slicing

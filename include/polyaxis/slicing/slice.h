@@ -1,0 +1,56 @@
+// Planar slicing along any direction: uniform or adaptive layer thickness.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "polyaxis/core/result.h"
+#include "polyaxis/mesh/mesh.h"
+#include "polyaxis/slicing/layer.h"
+
+namespace polyaxis::slicing {
+
+// Limits for adaptive thickness; each is off when unset. A layer takes the largest thickness in
+// [min_mm, max_mm] (on the snap grid, if any) for which every limit set holds between its bottom
+// and top sections; when none does, it takes min_mm and is counted in `limit_violations`.
+struct AdaptiveLimits {
+  std::optional<double> cusp_mm;          // staircase height t·|n·d| over the non-flat facets in the layer
+  std::optional<double> voldiff;          // Ruan Eq. 9, see adaptive.cpp for the normalisation
+  std::optional<double> area_deviation;   // Hayasi: |A_top − A_bottom| / A_bottom
+  std::optional<double> overhang_deg;     // Kapil Fig. 4: top within bottom grown by t·tan(α)
+};
+
+struct SliceOptions {
+  Vec3 direction{0, 0, 1};   // build direction, any non-zero vector
+  double layer_mm = 0.2;     // uniform thickness (ignored when adaptive)
+  bool adaptive = false;
+  AdaptiveLimits limits;
+  double min_mm = 0.1;       // adaptive range
+  double max_mm = 1.0;
+  // Adaptive thicknesses are multiples of this (a machine's Z resolution), when > 0 ...
+  double snap_mm = 0.0;
+  // ... or one of these (a stock of sheet thicknesses), when not empty. Overrides snap_mm.
+  std::vector<double> thickness_stock_mm;
+  int threads = 0;           // 0: all cores (oneTBB); the output does not depend on it
+};
+
+struct SliceResult {
+  std::vector<Layer> layers;
+  std::uint32_t open_chains = 0;       // loops that did not close (only on an open mesh)
+  std::uint32_t limit_violations = 0;  // adaptive layers where no thickness met every limit
+  double total_area_mm2 = 0.0;
+  double volume_estimate_mm3 = 0.0;    // Σ area × thickness
+};
+
+// Checks OPTIONS (kUsage naming the option): finite non-zero direction, positive thicknesses,
+// min <= max, positive limits.
+core::Status validate(const SliceOptions& options);
+
+// Slices MESH (closed, manifold, outward: mesh::repair output). Uniform layers of thickness t
+// start at the mesh's lowest point along d; layer k's plane is at min + (k + ½)·t, so
+// Σ area × t is the midpoint rule for the volume. Layers are cut in parallel; the result is the
+// same at any thread count. Cost: O(F log F + crossings).
+core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& options);
+
+}  // namespace polyaxis::slicing

@@ -1,0 +1,120 @@
+#include "polyaxis/report/layers.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+namespace polyaxis::report {
+namespace {
+
+using nlohmann::ordered_json;
+
+// Coordinates are exact multiples of 1 nm: print them with 6 decimals.
+void append_mm(std::string& out, std::int64_t units) {
+  const bool negative = units < 0;
+  const std::uint64_t a = negative ? static_cast<std::uint64_t>(-(units + 1)) + 1 : static_cast<std::uint64_t>(units);
+  fmt::format_to(std::back_inserter(out), "{}{}.{:06d}", negative ? "-" : "", a / 1000000, a % 1000000);
+}
+
+void append_ring(std::string& out, const geom2d::Ring& ring) {
+  out += '[';
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    if (i) out += ',';
+    out += '[';
+    append_mm(out, ring[i].x);
+    out += ',';
+    append_mm(out, ring[i].y);
+    out += ']';
+  }
+  out += ']';
+}
+
+std::string vec(core::Vec3 v) { return fmt::format("[{:.9g},{:.9g},{:.9g}]", v.x, v.y, v.z); }
+
+ordered_json summary(const slicing::SliceResult& r, const LayersMeta& meta) {
+  double tmin = std::numeric_limits<double>::infinity(), tmax = 0.0;
+  for (const auto& l : r.layers) tmin = std::min(tmin, l.thickness_mm()), tmax = std::max(tmax, l.thickness_mm());
+  ordered_json j;
+  j["part"] = meta.part;
+  j["direction"] = {core::normalized(meta.options.direction).x, core::normalized(meta.options.direction).y,
+                    core::normalized(meta.options.direction).z};
+  j["mode"] = meta.options.adaptive ? "adaptive" : "uniform";
+  j["layers"] = r.layers.size();
+  j["total_area_mm2"] = r.total_area_mm2;
+  j["volume_estimate_mm3"] = r.volume_estimate_mm3;
+  j["min_thickness_mm"] = r.layers.empty() ? 0.0 : tmin;
+  j["max_thickness_mm"] = tmax;
+  j["open_chains"] = r.open_chains;
+  j["limit_violations"] = r.limit_violations;
+  return j;
+}
+
+}  // namespace
+
+std::string slice_summary_json(const slicing::SliceResult& result, const LayersMeta& meta) { return summary(result, meta).dump(2); }
+
+std::string layers_json(const slicing::SliceResult& result, const LayersMeta& meta) {
+  std::string out;
+  out.reserve(1 << 20);
+  out += "{\"summary\":";
+  out += summary(result, meta).dump();
+  out += ",\n\"layers\":[\n";
+  for (std::size_t k = 0; k < result.layers.size(); ++k) {
+    const slicing::Layer& l = result.layers[k];
+    if (k) out += ",\n";
+    fmt::format_to(std::back_inserter(out),
+                   "{{\"index\":{},\"origin\":{},\"normal\":{},\"u\":{},\"v\":{},\"height_mm\":{:.9g},\"thickness_mm\":{:.9g},"
+                   "\"below_mm\":{:.9g},\"above_mm\":{:.9g},\"area_mm2\":{:.9g},\"polygons\":[",
+                   l.index, vec(l.frame.origin), vec(l.frame.d), vec(l.frame.u), vec(l.frame.v), l.height_mm, l.thickness_mm(),
+                   l.below_mm, l.above_mm, l.area_mm2);
+    for (std::size_t p = 0; p < l.polygons.size(); ++p) {
+      if (p) out += ',';
+      out += "{\"outer\":";
+      append_ring(out, l.polygons[p].outer);
+      out += ",\"holes\":[";
+      for (std::size_t h = 0; h < l.polygons[p].holes.size(); ++h) {
+        if (h) out += ',';
+        append_ring(out, l.polygons[p].holes[h]);
+      }
+      out += "]}";
+    }
+    out += "]}";
+  }
+  out += "\n]}\n";
+  return out;
+}
+
+std::string layer_svg(const slicing::Layer& layer) {
+  std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = std::numeric_limits<std::int64_t>::min(), y1 = x1;
+  for (const auto& p : layer.polygons) {
+    for (const auto& q : p.outer) x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
+  }
+  if (layer.polygons.empty()) x0 = y0 = x1 = y1 = 0;
+  const double margin = 1.0;
+  const double w = geom2d::to_mm(x1 - x0) + 2 * margin, h = geom2d::to_mm(y1 - y0) + 2 * margin;
+  std::string out = fmt::format(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.3f}mm\" height=\"{:.3f}mm\" viewBox=\"{:.6f} {:.6f} {:.6f} {:.6f}\">\n"
+      "<title>layer {} at {:.4f} mm, {:.4f} mm thick, {:.3f} mm2</title>\n"
+      "<g transform=\"scale(1,-1)\" fill=\"#4a90d9\" fill-opacity=\"0.6\" stroke=\"#1f3f66\" stroke-width=\"0.1\" fill-rule=\"evenodd\">\n",
+      w, h, geom2d::to_mm(x0) - margin, -geom2d::to_mm(y1) - margin, w, h, layer.index, layer.height_mm, layer.thickness_mm(),
+      layer.area_mm2);
+  for (const auto& p : layer.polygons) {
+    out += "<path d=\"";
+    auto ring = [&](const geom2d::Ring& r) {
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        fmt::format_to(std::back_inserter(out), "{}{:.6f} {:.6f} ", i ? "L" : "M", geom2d::to_mm(r[i].x), geom2d::to_mm(r[i].y));
+      }
+      out += "Z ";
+    };
+    ring(p.outer);
+    for (const auto& hole : p.holes) ring(hole);
+    out += "\"/>\n";
+  }
+  out += "</g>\n</svg>\n";
+  return out;
+}
+
+}  // namespace polyaxis::report

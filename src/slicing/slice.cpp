@@ -1,0 +1,142 @@
+// Uniform planar slicing: triangles bucketed by the layers whose planes they span (a counting
+// sort, exact against the same plane heights the tie rule uses), then layers cut in parallel.
+#include "polyaxis/slicing/slice.h"
+
+#include <fmt/format.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+
+#include <cmath>
+#include <memory>
+
+#include "adaptive.h"
+#include "polyaxis/core/progress.h"
+#include "polyaxis/slicing/section.h"
+
+namespace polyaxis::slicing {
+namespace {
+
+using core::ErrorCode;
+using core::make_error;
+
+bool finite_positive(double x) { return std::isfinite(x) && x > 0.0; }
+
+// Plane height of uniform layer K: the single formula both the bucketing and the sections use.
+double plane_height(double base, double t, std::int64_t k) { return base + (static_cast<double>(k) + 0.5) * t; }
+
+}  // namespace
+
+core::Status validate(const SliceOptions& o) {
+  if (!core::is_finite(o.direction) || core::norm(o.direction) < 1e-12) {
+    return make_error(ErrorCode::kUsage, "--dir: the direction must be a finite non-zero vector");
+  }
+  if (!o.adaptive && !finite_positive(o.layer_mm)) return make_error(ErrorCode::kUsage, "--layer: must be a finite number > 0");
+  if (o.adaptive) {
+    if (!finite_positive(o.min_mm)) return make_error(ErrorCode::kUsage, "--min: must be a finite number > 0");
+    if (!finite_positive(o.max_mm)) return make_error(ErrorCode::kUsage, "--max: must be a finite number > 0");
+    if (o.min_mm > o.max_mm) {
+      return make_error(ErrorCode::kUsage, fmt::format("--min {} is larger than --max {}", o.min_mm, o.max_mm));
+    }
+    const auto check = [](const std::optional<double>& v, const char* name) -> core::Status {
+      if (v && !finite_positive(*v)) return make_error(ErrorCode::kUsage, fmt::format("--adaptive {}: must be a finite number > 0", name));
+      return {};
+    };
+    if (auto s = check(o.limits.cusp_mm, "cusp"); !s) return s;
+    if (auto s = check(o.limits.voldiff, "voldiff"); !s) return s;
+    if (auto s = check(o.limits.area_deviation, "area"); !s) return s;
+    if (auto s = check(o.limits.overhang_deg, "overhang"); !s) return s;
+    if (o.limits.overhang_deg && *o.limits.overhang_deg >= 90.0) {
+      return make_error(ErrorCode::kUsage, "--adaptive overhang: the angle must be below 90 degrees");
+    }
+    if (o.snap_mm < 0.0 || !std::isfinite(o.snap_mm)) return make_error(ErrorCode::kUsage, "--snap: must be a finite number >= 0");
+    for (double t : o.thickness_stock_mm) {
+      if (!finite_positive(t)) return make_error(ErrorCode::kUsage, "--thicknesses: every thickness must be a finite number > 0");
+    }
+  }
+  return {};
+}
+
+core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& options) {
+  if (auto s = validate(options); !s) return s.error();
+  if (mesh.triangles.empty()) return make_error(ErrorCode::kInvalidInput, "nothing to slice: the mesh has no faces");
+  std::unique_ptr<tbb::global_control> limit;
+  if (options.threads > 0) {
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
+  }
+  const SectionContext ctx(mesh, options.direction);
+  if (options.adaptive) return detail::slice_adaptive(ctx, options);
+
+  const double t = options.layer_mm;
+  const double base = ctx.min_height();
+  const double span = ctx.max_height() - base;
+  const auto count = static_cast<std::int64_t>(std::ceil(span / t));
+  constexpr std::int64_t kMaxLayers = 10'000'000;
+  if (count > kMaxLayers) {
+    return make_error(ErrorCode::kUsage, fmt::format("--layer {} mm gives {} layers over {} mm; at most {}", t, count, span, kMaxLayers));
+  }
+  const auto n = static_cast<std::size_t>(std::max<std::int64_t>(count, 1));
+  // Layers each face spans: lo = first k with plane(k) > face_min, hi = last k with plane(k) <= face_max.
+  const std::size_t nf = mesh.triangles.size();
+  std::vector<std::uint32_t> start(n + 1, 0);
+  std::vector<std::int64_t> lo(nf), hi(nf);
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    std::int64_t a = static_cast<std::int64_t>(std::floor((ctx.face_min(f) - base) / t - 0.5)) + 1;
+    while (a > 0 && plane_height(base, t, a - 1) > ctx.face_min(f)) --a;
+    while (plane_height(base, t, a) <= ctx.face_min(f)) ++a;
+    std::int64_t b = static_cast<std::int64_t>(std::floor((ctx.face_max(f) - base) / t - 0.5));
+    while (plane_height(base, t, b + 1) <= ctx.face_max(f)) ++b;
+    while (b >= a && plane_height(base, t, b) > ctx.face_max(f)) --b;
+    lo[f] = std::max<std::int64_t>(a, 0);
+    hi[f] = std::min<std::int64_t>(b, static_cast<std::int64_t>(n) - 1);
+    for (std::int64_t k = lo[f]; k <= hi[f]; ++k) ++start[static_cast<std::size_t>(k) + 1];
+  }
+  for (std::size_t k = 0; k < n; ++k) start[k + 1] += start[k];
+  std::vector<std::uint32_t> bucket(start[n]);
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      for (std::int64_t k = lo[f]; k <= hi[f]; ++k) bucket[fill[static_cast<std::size_t>(k)]++] = f;
+    }
+  }
+  lo = {};
+  hi = {};
+
+  SliceResult result;
+  result.layers.resize(n);
+  std::vector<std::uint32_t> open(n, 0);
+  tbb::enumerable_thread_specific<SectionScratch> scratch;
+  core::Progress progress("slicing", n);
+  std::atomic<std::uint64_t> done{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8), [&](const tbb::blocked_range<std::size_t>& range) {
+    SectionScratch& local = scratch.local();
+    for (std::size_t k = range.begin(); k != range.end(); ++k) {
+      const double h = plane_height(base, t, static_cast<std::int64_t>(k));
+      Layer& layer = result.layers[k];
+      layer.index = static_cast<std::uint32_t>(k);
+      layer.frame = plane_frame(ctx.direction(), h);
+      layer.height_mm = h;
+      layer.below_mm = layer.above_mm = t / 2.0;
+      const std::span<const std::uint32_t> candidates(bucket.data() + start[k], start[k + 1] - start[k]);
+      SectionResult s = section(ctx, h, layer.frame, candidates, local);
+      layer.polygons = std::move(s.polygons);
+      layer.area_mm2 = s.area_mm2;
+      open[k] = s.open_chains;
+    }
+    done += range.size();
+    if (tbb::this_task_arena::current_thread_index() == 0) progress.update(done);  // one thread draws
+  });
+  // Drop empty layers at the top (the last plane may clear a flat top).
+  while (!result.layers.empty() && result.layers.back().polygons.empty()) result.layers.pop_back();
+  for (std::size_t k = 0; k < result.layers.size(); ++k) {
+    result.open_chains += open[k];
+    result.total_area_mm2 += result.layers[k].area_mm2;
+    result.volume_estimate_mm3 += result.layers[k].area_mm2 * result.layers[k].thickness_mm();
+  }
+  return result;
+}
+
+}  // namespace polyaxis::slicing
