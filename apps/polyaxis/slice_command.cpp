@@ -107,11 +107,11 @@ int run_slice(SliceCommandOptions& o) {
   std::filesystem::create_directories(o.out_dir, ec);
   if (ec) return report_error(core::make_error(core::ErrorCode::kOutput, fmt::format("{}: cannot create: {}", o.out_dir, ec.message())));
   const report::LayersMeta meta{o.part.path, o.slice};
-  if (auto s = io::write_file_atomic(o.out_dir + "/layers.json", report::layers_json(r, meta)); !s) return report_error(s.error());
+  if (auto s = io::write_file_atomic(o.out_dir + "/layers.json", report::layers_json(r, meta), io::Durability::kAtomic); !s) return report_error(s.error());
   if (o.svg) {
     for (const auto& layer : r.layers) {
       const std::string path = fmt::format("{}/layer_{:05d}.svg", o.out_dir, layer.index);
-      if (auto s = io::write_file_atomic(path, report::layer_svg(layer)); !s) return report_error(s.error());
+      if (auto s = io::write_file_atomic(path, report::layer_svg(layer), io::Durability::kAtomic); !s) return report_error(s.error());
     }
   }
   if (o.json) {

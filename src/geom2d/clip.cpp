@@ -70,9 +70,24 @@ std::vector<Polygon> from_tree(const ClipperLib::PolyTree& tree) {
 
 }  // namespace
 
-std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_rule) {
+namespace {
+
+// Clipper's output never has crossing edges, but a ring may touch itself or another at a vertex.
+bool has_touching_vertices(const std::vector<Polygon>& polys) {
+  std::vector<std::pair<std::int64_t, std::int64_t>> points;
+  for (const Polygon& p : polys) {
+    for (const Point& q : p.outer) points.emplace_back(q.x, q.y);
+    for (const Ring& h : p.holes) {
+      for (const Point& q : h) points.emplace_back(q.x, q.y);
+    }
+  }
+  std::sort(points.begin(), points.end());
+  return std::adjacent_find(points.begin(), points.end()) != points.end();
+}
+
+std::vector<Polygon> union_impl(const std::vector<Ring>& rings, FillRule fill_rule, bool strictly_simple) {
   ClipperLib::Clipper clipper;
-  clipper.StrictlySimple(true);  // loops that touch themselves come out as separate simple rings
+  clipper.StrictlySimple(strictly_simple);
   for (const Ring& r : rings) {
     if (r.size() >= 3) clipper.AddPath(to_path(r), ClipperLib::ptSubject, true);
   }
@@ -82,11 +97,21 @@ std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_r
   return from_tree(tree);
 }
 
+}  // namespace
+
+std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_rule) {
+  // Clipper's strictly-simple pass is quadratic in a ring's points: run it only when the plain
+  // union left rings touching at a vertex, which sections of a clean mesh almost never do.
+  std::vector<Polygon> result = union_impl(rings, fill_rule, false);
+  if (has_touching_vertices(result)) result = union_impl(rings, fill_rule, true);
+  return result;
+}
+
 namespace {
 
 std::vector<Polygon> boolean(ClipperLib::ClipType op, const std::vector<Ring>& a, const std::vector<Ring>& b) {
   ClipperLib::Clipper clipper;
-  clipper.StrictlySimple(true);
+  // Only areas of these results are used: no strictly-simple pass needed.
   for (const Ring& r : a) {
     if (r.size() >= 3) clipper.AddPath(to_path(r), ClipperLib::ptSubject, true);
   }

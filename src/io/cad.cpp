@@ -1,23 +1,22 @@
 // STEP/IGES reading isolated in a child process (RELIABILITY.md F16). OpenCASCADE can crash, loop
-// or exhaust memory on a malformed file, so the import runs in a fork()ed child under RLIMIT_AS
-// (options.import_memory_bytes) and RLIMIT_CPU, and the parent enforces a wall-clock limit
-// (options.import_timeout_s) with SIGKILL. The child writes its result to an already-unlinked
-// temporary file (mkostemp in the system temp directory, unlinked at once, so nothing is left
-// behind on any path, even if the parent itself dies); the parent reads it back trusting no size
-// in it beyond the file's own size.
+// or exhaust memory on a malformed file, so the import runs in a separate executable,
+// polyaxis-cad-import (apps/polyaxis-cad-import, the only program linking OpenCASCADE, which also
+// keeps ~30 ms of dynamic loading out of every CLI start). read_cad fork()s, sets RLIMIT_AS
+// (options.import_memory_bytes) and RLIMIT_CPU in the child, and execv()s the helper; the parent
+// enforces a wall-clock limit (options.import_timeout_s) with SIGKILL. The helper writes its result
+// to an already-unlinked temporary file (mkostemp in the system temp directory, unlinked at once,
+// so nothing is left behind on any path, even if the parent itself dies), inherited as a descriptor
+// whose number is passed as --result-fd; the parent reads it back trusting no size in it beyond the
+// file's own size. Layout and exit codes: cad_protocol in cad_import.h.
 //
-// Result file layout (native byte order; the same machine writes and reads it):
-//   "PAXCAD1\0", u32 status (0 ok, 1 error),
-//   error: u64 length + message bytes;
-//   ok:    u64 warning count, each u64 length + bytes; u64 point count, u64 triangle count,
-//          points as 3 doubles (mm), triangles as 3 u32.
+// Between fork() and execv() the child of a possibly multithreaded process calls only
+// async-signal-safe functions: everything (argv, /dev/null, the limits) is prepared before fork().
+// An execv() failure is reported through a close-on-exec pipe, so "cannot run the helper" is told
+// apart from the helper's own exit codes.
 //
-// Test hooks, read in the child only: POLYAXIS_CAD_TEST_CRASH=1 makes the child raise SIGSEGV
-// before importing, POLYAXIS_CAD_TEST_HANG=1 makes it sleep forever, so tests can check the crash
-// and timeout paths without a file that actually crashes OpenCASCADE.
-//
-// fork() without exec in a possibly multithreaded process: the child only calls the importer,
-// which uses malloc (glibc makes malloc fork-safe) and no threads (BRepMesh runs sequentially).
+// The helper is looked for, in this order, at $POLYAXIS_CAD_IMPORTER, next to the running
+// executable (/proc/self/exe), and at the build-tree path CMake bakes in
+// (POLYAXIS_CAD_IMPORTER_DEFAULT). The test hooks POLYAXIS_CAD_TEST_CRASH / _HANG are read there.
 #include "polyaxis/io/cad.h"
 
 #include <fcntl.h>
@@ -28,6 +27,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -37,7 +37,8 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
-#include <new>
+#include <optional>
+#include <string>
 #include <string_view>
 #include <system_error>
 #include <thread>
@@ -45,22 +46,29 @@
 
 #include "cad_import.h"
 
+#ifndef POLYAXIS_CAD_IMPORTER_DEFAULT
+#define POLYAXIS_CAD_IMPORTER_DEFAULT ""
+#endif
+
 namespace polyaxis::io {
 namespace {
 
 using core::ErrorCode;
 using core::make_error;
 
-constexpr char kMagic[8] = {'P', 'A', 'X', 'C', 'A', 'D', '1', '\0'};
-constexpr std::uint32_t kStatusOk = 0;
-constexpr std::uint32_t kStatusError = 1;
+namespace protocol = cad_protocol;
+using protocol::kExitCannotLoad;
+using protocol::kExitImportError;
+using protocol::kExitOk;
+using protocol::kExitOutOfMemory;
+using protocol::kExitUsage;
+using protocol::kExitWriteFailed;
+using protocol::kMagic;
+using protocol::kStatusError;
+using protocol::kStatusOk;
 
-// Child exit codes.
-constexpr int kExitOk = 0;
-constexpr int kExitImportError = 3;   // an Error was written
-constexpr int kExitWriteFailed = 4;   // the result file could not be written
-constexpr int kExitException = 5;     // something escaped the importer's own catch
-constexpr int kExitOutOfMemory = 6;   // std::bad_alloc escaped (RLIMIT_AS reached)
+constexpr const char* kImporterName = "polyaxis-cad-import";
+constexpr const char* kImporterEnv = "POLYAXIS_CAD_IMPORTER";
 
 constexpr std::uint64_t kMaxMessageBytes = 1u << 20;
 constexpr std::uint64_t kMaxWarnings = 10'000;
@@ -87,66 +95,50 @@ class UniqueFd {
     if (fd_ >= 0) ::close(fd_);
   }
   int get() const { return fd_; }
+  void reset(int fd) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = fd;
+  }
 
  private:
   int fd_;
 };
 
-// ---- child -------------------------------------------------------------------------------------
+// ---- locating and starting the helper -------------------------------------------------------
 
-// Buffered writes to the result file; remembers the first failure.
-class ResultWriter {
- public:
-  explicit ResultWriter(int fd) : fd_(fd) { buffer_.reserve(kBufferBytes); }
-
-  void put(const void* data, std::size_t size) {
-    const char* p = static_cast<const char*>(data);
-    while (size > 0 && ok_) {
-      const std::size_t n = std::min(size, kBufferBytes - buffer_.size());
-      buffer_.insert(buffer_.end(), p, p + n);
-      p += n;
-      size -= n;
-      if (buffer_.size() == kBufferBytes) flush();
-    }
-  }
-  void put_u32(std::uint32_t v) { put(&v, sizeof v); }
-  void put_u64(std::uint64_t v) { put(&v, sizeof v); }
-  void put_string(std::string_view s) {
-    put_u64(s.size());
-    put(s.data(), s.size());
-  }
-
-  bool finish() {
-    flush();
-    return ok_;
-  }
-
- private:
-  static constexpr std::size_t kBufferBytes = 64u << 10;
-
-  void flush() {
-    std::size_t done = 0;
-    while (done < buffer_.size() && ok_) {
-      const ssize_t n = ::write(fd_, buffer_.data() + done, buffer_.size() - done);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) {
-        ok_ = false;
-        break;
-      }
-      done += static_cast<std::size_t>(n);
-    }
-    buffer_.clear();
-  }
-
-  int fd_;
-  std::vector<char> buffer_;
-  bool ok_ = true;
-};
-
-bool env_flag(const char* name) {
-  const char* value = std::getenv(name);
-  return value != nullptr && std::string_view(value) == "1";
+bool is_executable_file(const std::string& path) {
+  struct stat st{};
+  return !path.empty() && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
 }
+
+// $POLYAXIS_CAD_IMPORTER, then next to the running executable, then the build-tree default.
+std::optional<std::string> find_importer() {
+  if (const char* env = std::getenv(kImporterEnv); env != nullptr && is_executable_file(env)) return std::string(env);
+  std::array<char, 4096> self{};
+  const ssize_t n = ::readlink("/proc/self/exe", self.data(), self.size());
+  if (n > 0 && static_cast<std::size_t>(n) < self.size()) {
+    const std::filesystem::path beside =
+        std::filesystem::path(std::string(self.data(), static_cast<std::size_t>(n))).parent_path() / kImporterName;
+    if (is_executable_file(beside.string())) return beside.string();
+  }
+  if (is_executable_file(POLYAXIS_CAD_IMPORTER_DEFAULT)) return std::string(POLYAXIS_CAD_IMPORTER_DEFAULT);
+  return std::nullopt;
+}
+
+// Everything the child needs between fork() and execv(), prepared before fork() so that the child
+// only makes async-signal-safe calls.
+struct ChildPlan {
+  std::string importer;
+  std::vector<std::string> args;
+  std::vector<char*> argv;  // into args, null-terminated
+  // All three >= 3, so that pointing 0..2 at /dev/null in the child cannot clobber them.
+  int result_fd = -1;       // close-on-exec cleared in the child only
+  int devnull_fd = -1;      // stdin, stdout and stderr of the helper (-1: left as they are)
+  int exec_error_fd = -1;   // write end of the close-on-exec pipe that reports an execv() errno
+  bool limit_memory = false;
+  rlim_t memory_bytes = 0;
+  rlim_t cpu_s = 0;
+};
 
 void set_limit(int resource, rlim_t soft, rlim_t hard) {
   rlimit limit{};
@@ -155,64 +147,36 @@ void set_limit(int resource, rlim_t soft, rlim_t hard) {
   ::setrlimit(resource, &limit);  // best effort: a failure leaves the wall-clock limit in force
 }
 
-[[noreturn]] void run_child(int fd, const std::string& path, Format format, const ReadOptions& options) {
-  // A crash must show up as WIFSIGNALED in the parent: default handlers (the parent, a test
-  // framework or a sanitizer may have installed its own), nothing blocked, no core file.
-  for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGXCPU, SIGTERM}) std::signal(sig, SIG_DFL);
-  sigset_t all{};
-  sigemptyset(&all);
-  sigprocmask(SIG_SETMASK, &all, nullptr);
-  set_limit(RLIMIT_CORE, 0, 0);
-  // AddressSanitizer reserves terabytes of address space up front; an RLIMIT_AS would fail every
-  // allocation of the child, so sanitized builds rely on the wall-clock limit alone.
-  if (!kAddressSanitizer && options.import_memory_bytes > 0) {
-    const auto bytes = static_cast<rlim_t>(options.import_memory_bytes);
-    set_limit(RLIMIT_AS, bytes, bytes);
+[[noreturn]] void exec_child(const ChildPlan& plan) {
+  // A crash must show up as WIFSIGNALED in the parent: default dispositions (execv keeps ignored
+  // signals ignored), nothing blocked, no core file.
+  struct sigaction default_action{};
+  default_action.sa_handler = SIG_DFL;
+  sigemptyset(&default_action.sa_mask);
+  for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGXCPU, SIGTERM, SIGPIPE, SIGCHLD}) {
+    ::sigaction(sig, &default_action, nullptr);
   }
-  const double cpu_s = std::ceil(std::min(options.import_timeout_s, 1e7)) + 1.0;
-  const auto cpu = static_cast<rlim_t>(cpu_s);
-  set_limit(RLIMIT_CPU, cpu, cpu + 1);
+  sigset_t none{};
+  sigemptyset(&none);
+  ::sigprocmask(SIG_SETMASK, &none, nullptr);
+  set_limit(RLIMIT_CORE, 0, 0);
+  if (plan.limit_memory) set_limit(RLIMIT_AS, plan.memory_bytes, plan.memory_bytes);
+  set_limit(RLIMIT_CPU, plan.cpu_s, plan.cpu_s + 1);
 
   // OpenCASCADE reports its progress on stdout; keep the caller's output clean.
-  const int devnull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
-  if (devnull >= 0) {
-    ::dup2(devnull, STDOUT_FILENO);
-    ::dup2(devnull, STDERR_FILENO);
+  if (plan.devnull_fd >= 0) {
+    for (const int stdio : {STDIN_FILENO, STDOUT_FILENO, STDERR_FILENO}) ::dup2(plan.devnull_fd, stdio);
   }
+#ifdef CLOSE_RANGE_CLOEXEC
+  // No other descriptor of the parent reaches the helper (best effort; needs Linux 5.11).
+  ::close_range(3, ~0u, CLOSE_RANGE_CLOEXEC);
+#endif
+  ::fcntl(plan.result_fd, F_SETFD, 0);  // the one descriptor the helper inherits
 
-  if (env_flag("POLYAXIS_CAD_TEST_CRASH")) std::raise(SIGSEGV);
-  if (env_flag("POLYAXIS_CAD_TEST_HANG")) {
-    for (;;) ::pause();
-  }
-
-  try {
-    std::vector<std::string> warnings;
-    auto mesh_or = import_cad_file(path, format, options.chordal_mm, options.angular_deg, &warnings);
-    ResultWriter out(fd);
-    out.put(kMagic, sizeof kMagic);
-    if (!mesh_or.ok()) {
-      out.put_u32(kStatusError);
-      out.put_string(mesh_or.error().message);
-      ::_exit(out.finish() ? kExitImportError : kExitWriteFailed);
-    }
-    const RawMesh& mesh = mesh_or.value();
-    out.put_u32(kStatusOk);
-    out.put_u64(warnings.size());
-    for (const std::string& w : warnings) out.put_string(w);
-    out.put_u64(mesh.points.size());
-    out.put_u64(mesh.triangles.size());
-    for (const core::Vec3& p : mesh.points) {
-      const double xyz[3] = {p.x, p.y, p.z};
-      out.put(xyz, sizeof xyz);
-    }
-    static_assert(sizeof(Triangle) == 12);
-    out.put(mesh.triangles.data(), mesh.triangles.size() * sizeof(Triangle));
-    ::_exit(out.finish() ? kExitOk : kExitWriteFailed);
-  } catch (const std::bad_alloc&) {
-    ::_exit(kExitOutOfMemory);
-  } catch (...) {
-    ::_exit(kExitException);
-  }
+  ::execv(plan.importer.c_str(), plan.argv.data());
+  const int error = errno;
+  [[maybe_unused]] const ssize_t n = ::write(plan.exec_error_fd, &error, sizeof error);
+  ::_exit(kExitCannotLoad);
 }
 
 // ---- parent ------------------------------------------------------------------------------------
@@ -372,6 +336,12 @@ core::Result<ReadResult> read_cad(const std::string& path, Format format, const 
     }
   }
 
+  const std::optional<std::string> importer = find_importer();
+  if (!importer) {
+    return make_error(ErrorCode::kInvalidInput,
+                      fmt::format("{} import unavailable: {} not found (set {})", kind, kImporterName, kImporterEnv));
+  }
+
   std::error_code ec;
   std::filesystem::path temp_dir = std::filesystem::temp_directory_path(ec);
   if (ec) temp_dir = "/tmp";
@@ -384,17 +354,76 @@ core::Result<ReadResult> read_cad(const std::string& path, Format format, const 
   UniqueFd result_fd(fd);
   ::unlink(name.c_str());  // the open descriptor keeps the data; no file is left behind on any path
 
+  UniqueFd devnull(::open("/dev/null", O_RDWR | O_CLOEXEC));
+  int exec_pipe[2] = {-1, -1};
+  if (::pipe2(exec_pipe, O_CLOEXEC | O_NONBLOCK) != 0) {
+    return make_error(ErrorCode::kInternal, fmt::format("{} import of {}: cannot start the import process: {}", kind,
+                                                        path, std::strerror(errno)));
+  }
+  UniqueFd exec_read(exec_pipe[0]);
+  UniqueFd exec_write(exec_pipe[1]);
+  // If this process runs with a standard stream closed, these may have landed on 0..2, which the
+  // child points at /dev/null: move them above.
+  for (UniqueFd* moving : {&result_fd, &devnull, &exec_write}) {
+    if (moving->get() < 0 || moving->get() > STDERR_FILENO) continue;
+    const int moved = ::fcntl(moving->get(), F_DUPFD_CLOEXEC, STDERR_FILENO + 1);
+    if (moved < 0) {
+      return make_error(ErrorCode::kInternal, fmt::format("{} import of {}: cannot start the import process: {}",
+                                                          kind, path, std::strerror(errno)));
+    }
+    moving->reset(moved);
+  }
+
+  ChildPlan plan;
+  plan.importer = *importer;
+  plan.args = {kImporterName,
+               "--format",
+               format == Format::kIges ? "iges" : "step",
+               "--chordal-mm",
+               fmt::format("{}", options.chordal_mm),  // shortest round-trip form
+               "--angular-deg",
+               fmt::format("{}", options.angular_deg),
+               "--result-fd",
+               std::to_string(result_fd.get()),
+               "--",
+               path};
+  for (std::string& arg : plan.args) plan.argv.push_back(arg.data());
+  plan.argv.push_back(nullptr);
+  plan.result_fd = result_fd.get();
+  plan.devnull_fd = devnull.get();
+  plan.exec_error_fd = exec_write.get();
+  // AddressSanitizer reserves terabytes of address space up front; an RLIMIT_AS would fail every
+  // allocation of the (equally sanitized) helper, so sanitized builds rely on the wall-clock limit.
+  plan.limit_memory = !kAddressSanitizer && options.import_memory_bytes > 0;
+  plan.memory_bytes = static_cast<rlim_t>(options.import_memory_bytes);
+  plan.cpu_s = static_cast<rlim_t>(std::ceil(std::min(options.import_timeout_s, 1e7)) + 1.0);
+
   const pid_t pid = ::fork();
   if (pid < 0) {
     return make_error(ErrorCode::kInternal, fmt::format("{} import of {}: cannot start the import process: {}", kind,
                                                         path, std::strerror(errno)));
   }
-  if (pid == 0) run_child(fd, path, format, options);
+  if (pid == 0) exec_child(plan);
+  exec_write.reset(-1);  // so that the read end sees end-of-file once the child has exec'd or exited
 
   int wait_status = 0;
   if (!wait_for_child(pid, options.import_timeout_s, wait_status)) {
     return make_error(ErrorCode::kInvalidInput,
                       fmt::format("{} import timed out after {:g} s on {}", kind, options.import_timeout_s, path));
+  }
+  // The child has ended: an execv() errno is in the pipe, or nothing (it ran the helper).
+  int exec_errno = 0;
+  ssize_t got = 0;
+  while ((got = ::read(exec_read.get(), &exec_errno, sizeof exec_errno)) < 0 && errno == EINTR) {
+  }
+  if (got == static_cast<ssize_t>(sizeof exec_errno)) {
+    if (exec_errno == ENOMEM) {
+      return make_error(ErrorCode::kInvalidInput,
+                        fmt::format("{} import failed: out of memory starting {} (limit {} MiB) on {}", kind,
+                                    *importer, options.import_memory_bytes >> 20, path));
+    }
+    return make_error(ErrorCode::kInvalidInput, fmt::format("{} import unavailable: cannot run {}: {} (set {})", kind,
+                                                            *importer, std::strerror(exec_errno), kImporterEnv));
   }
   if (WIFSIGNALED(wait_status)) {
     const int sig = WTERMSIG(wait_status);
@@ -412,12 +441,23 @@ core::Result<ReadResult> read_cad(const std::string& path, Format format, const 
                       fmt::format("{} import failed: out of memory (limit {} MiB) on {}", kind,
                                   options.import_memory_bytes >> 20, path));
   }
+  if (exit_code == kExitCannotLoad) {
+    // execv succeeded (nothing came through the pipe), so the dynamic loader failed: a missing
+    // shared library, or the address-space limit reached while mapping OpenCASCADE.
+    const std::string limit =
+        plan.limit_memory ? fmt::format("; memory limit {} MiB", options.import_memory_bytes >> 20) : std::string();
+    return make_error(ErrorCode::kInvalidInput,
+                      fmt::format("{} import failed on {}: {} could not load its shared libraries (exit {}{})", kind,
+                                  path, *importer, exit_code, limit));
+  }
   if (exit_code != kExitOk && exit_code != kExitImportError) {
     return make_error(ErrorCode::kInvalidInput,
                       fmt::format("{} import failed on {}: the import process exited with code {}{}", kind, path,
-                                  exit_code, exit_code == kExitWriteFailed ? " (cannot write its result)" : ""));
+                                  exit_code, exit_code == kExitWriteFailed ? " (cannot write its result)"
+                                  : exit_code == kExitUsage   ? " (bad command line)"
+                                                              : ""));
   }
-  return read_child_result(fd, path, format, kind, options, exit_code);
+  return read_child_result(result_fd.get(), path, format, kind, options, exit_code);
 }
 
 }  // namespace polyaxis::io

@@ -1,7 +1,10 @@
 // STEP (ISO 10303-21) and IGES import through OpenCASCADE 7.6: read, transfer all roots into one
 // shape, tessellate with BRepMesh_IncrementalMesh, collect every face's Poly_Triangulation.
-// This is the only translation unit that sees OpenCASCADE headers (src/CMakeLists.txt).
+// This is the only translation unit that sees OpenCASCADE headers (src/CMakeLists.txt); it is
+// linked only into the polyaxis-cad-import helper executable, never into polyaxis_io.
 #include "cad_import.h"
+
+#include <unistd.h>
 
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRep_Tool.hxx>
@@ -22,13 +25,17 @@
 #include <gp_Pnt.hxx>
 #include <gp_Trsf.hxx>
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <exception>
 #include <limits>
 #include <memory>
 #include <new>
+#include <string_view>
 #include <utility>
+#include <vector>
 
 namespace polyaxis::io {
 namespace {
@@ -37,6 +44,55 @@ using core::ErrorCode;
 using core::make_error;
 
 constexpr double kPi = 3.14159265358979323846;
+
+// Buffered writes to the result file; remembers the first failure.
+class ResultWriter {
+ public:
+  explicit ResultWriter(int fd) : fd_(fd) { buffer_.reserve(kBufferBytes); }
+
+  void put(const void* data, std::size_t size) {
+    const char* p = static_cast<const char*>(data);
+    while (size > 0 && ok_) {
+      const std::size_t n = std::min(size, kBufferBytes - buffer_.size());
+      buffer_.insert(buffer_.end(), p, p + n);
+      p += n;
+      size -= n;
+      if (buffer_.size() == kBufferBytes) flush();
+    }
+  }
+  void put_u32(std::uint32_t v) { put(&v, sizeof v); }
+  void put_u64(std::uint64_t v) { put(&v, sizeof v); }
+  void put_string(std::string_view s) {
+    put_u64(s.size());
+    put(s.data(), s.size());
+  }
+
+  bool finish() {
+    flush();
+    return ok_;
+  }
+
+ private:
+  static constexpr std::size_t kBufferBytes = 64u << 10;
+
+  void flush() {
+    std::size_t done = 0;
+    while (done < buffer_.size() && ok_) {
+      const ssize_t n = ::write(fd_, buffer_.data() + done, buffer_.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        ok_ = false;
+        break;
+      }
+      done += static_cast<std::size_t>(n);
+    }
+    buffer_.clear();
+  }
+
+  int fd_;
+  std::vector<char> buffer_;
+  bool ok_ = true;
+};
 
 core::Error fail(const char* kind, const std::string& what, const std::string& path) {
   return make_error(ErrorCode::kInvalidInput, fmt::format("{} import failed: {} ({})", kind, what, path));
@@ -153,6 +209,38 @@ core::Result<RawMesh> import_cad_file(const std::string& path, Format format, do
     return fail(kind, fmt::format("exception: {}", e.what()), path);
   } catch (...) {
     return fail(kind, "unknown exception", path);
+  }
+}
+
+int import_cad_to_fd(int result_fd, const std::string& path, Format format, double chordal_mm, double angular_deg) {
+  namespace p = cad_protocol;
+  try {
+    std::vector<std::string> warnings;
+    auto mesh_or = import_cad_file(path, format, chordal_mm, angular_deg, &warnings);
+    ResultWriter out(result_fd);
+    out.put(p::kMagic, sizeof p::kMagic);
+    if (!mesh_or.ok()) {
+      out.put_u32(p::kStatusError);
+      out.put_string(mesh_or.error().message);
+      return out.finish() ? p::kExitImportError : p::kExitWriteFailed;
+    }
+    const RawMesh& mesh = mesh_or.value();
+    out.put_u32(p::kStatusOk);
+    out.put_u64(warnings.size());
+    for (const std::string& w : warnings) out.put_string(w);
+    out.put_u64(mesh.points.size());
+    out.put_u64(mesh.triangles.size());
+    for (const core::Vec3& pt : mesh.points) {
+      const double xyz[3] = {pt.x, pt.y, pt.z};
+      out.put(xyz, sizeof xyz);
+    }
+    static_assert(sizeof(Triangle) == 12);
+    out.put(mesh.triangles.data(), mesh.triangles.size() * sizeof(Triangle));
+    return out.finish() ? p::kExitOk : p::kExitWriteFailed;
+  } catch (const std::bad_alloc&) {
+    return p::kExitOutOfMemory;
+  } catch (...) {
+    return p::kExitException;
   }
 }
 

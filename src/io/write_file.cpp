@@ -12,7 +12,7 @@
 
 namespace polyaxis::io {
 
-core::Status write_file_atomic(const std::string& path, std::string_view bytes) {
+core::Status write_file_atomic(const std::string& path, std::string_view bytes, Durability durability) {
   const std::filesystem::path target(path);
   std::string tmpl = (target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path()).string() + "/." +
                      target.filename().string() + ".tmp-XXXXXX";
@@ -34,7 +34,7 @@ core::Status write_file_atomic(const std::string& path, std::string_view bytes) 
     }
     written += static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0) {
+  if (durability == Durability::kSynced && ::fsync(fd) != 0) {
     auto e = fail("sync");
     ::close(fd);
     ::unlink(tmpl.c_str());

@@ -130,7 +130,9 @@ std::uint64_t remove_degenerate_faces(Mesh& mesh) {
   for (std::size_t f = 0; f < before; ++f) {
     const Triangle t = mesh.triangles[f];
     const bool repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-    if (repeated || norm(face_area_vector(mesh, f)) < 2.0 * core::kDegenerateAreaMm2) continue;
+    const Vec3 n = face_area_vector(mesh, f);
+    constexpr double kMinTwiceArea = 2.0 * core::kDegenerateAreaMm2;
+    if (repeated || dot(n, n) < kMinTwiceArea * kMinTwiceArea) continue;
     mesh.triangles[out++] = t;
   }
   mesh.triangles.resize(out);

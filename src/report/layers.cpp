@@ -6,17 +6,29 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
 
 namespace polyaxis::report {
 namespace {
 
 using nlohmann::ordered_json;
 
-// Coordinates are exact multiples of 1 nm: print them with 6 decimals.
+// Coordinates are exact multiples of 1 nm: print them with 6 decimals, by hand (this is the hot
+// loop of writing layers.json).
 void append_mm(std::string& out, std::int64_t units) {
+  char buf[32];
+  char* end = buf + sizeof buf;
+  char* p = end;
   const bool negative = units < 0;
-  const std::uint64_t a = negative ? static_cast<std::uint64_t>(-(units + 1)) + 1 : static_cast<std::uint64_t>(units);
-  fmt::format_to(std::back_inserter(out), "{}{}.{:06d}", negative ? "-" : "", a / 1000000, a % 1000000);
+  std::uint64_t a = negative ? static_cast<std::uint64_t>(-(units + 1)) + 1 : static_cast<std::uint64_t>(units);
+  for (int i = 0; i < 6; ++i, a /= 10) *--p = static_cast<char>('0' + a % 10);
+  *--p = '.';
+  do {
+    *--p = static_cast<char>('0' + a % 10);
+    a /= 10;
+  } while (a != 0);
+  if (negative) *--p = '-';
+  out.append(p, static_cast<std::size_t>(end - p));
 }
 
 void append_ring(std::string& out, const geom2d::Ring& ring) {
@@ -52,36 +64,47 @@ ordered_json summary(const slicing::SliceResult& r, const LayersMeta& meta) {
   return j;
 }
 
+std::string layer_json(const slicing::Layer& l) {
+  std::string out;
+  fmt::format_to(std::back_inserter(out),
+                 "{{\"index\":{},\"origin\":{},\"normal\":{},\"u\":{},\"v\":{},\"height_mm\":{:.9g},\"thickness_mm\":{:.9g},"
+                 "\"below_mm\":{:.9g},\"above_mm\":{:.9g},\"area_mm2\":{:.9g},\"polygons\":[",
+                 l.index, vec(l.frame.origin), vec(l.frame.d), vec(l.frame.u), vec(l.frame.v), l.height_mm, l.thickness_mm(),
+                 l.below_mm, l.above_mm, l.area_mm2);
+  for (std::size_t p = 0; p < l.polygons.size(); ++p) {
+    if (p) out += ',';
+    out += "{\"outer\":";
+    append_ring(out, l.polygons[p].outer);
+    out += ",\"holes\":[";
+    for (std::size_t h = 0; h < l.polygons[p].holes.size(); ++h) {
+      if (h) out += ',';
+      append_ring(out, l.polygons[p].holes[h]);
+    }
+    out += "]}";
+  }
+  out += "]}";
+  return out;
+}
+
 }  // namespace
 
 std::string slice_summary_json(const slicing::SliceResult& result, const LayersMeta& meta) { return summary(result, meta).dump(2); }
 
 std::string layers_json(const slicing::SliceResult& result, const LayersMeta& meta) {
   std::string out;
-  out.reserve(1 << 20);
   out += "{\"summary\":";
   out += summary(result, meta).dump();
   out += ",\n\"layers\":[\n";
-  for (std::size_t k = 0; k < result.layers.size(); ++k) {
-    const slicing::Layer& l = result.layers[k];
+  // Layers are formatted in parallel into their own strings, then joined in order: the bytes do
+  // not depend on the thread count.
+  std::vector<std::string> parts(result.layers.size());
+  tbb::parallel_for(std::size_t{0}, result.layers.size(), [&](std::size_t k) { parts[k] = layer_json(result.layers[k]); });
+  std::size_t total = out.size();
+  for (const auto& p : parts) total += p.size() + 2;
+  out.reserve(total + 8);
+  for (std::size_t k = 0; k < parts.size(); ++k) {
     if (k) out += ",\n";
-    fmt::format_to(std::back_inserter(out),
-                   "{{\"index\":{},\"origin\":{},\"normal\":{},\"u\":{},\"v\":{},\"height_mm\":{:.9g},\"thickness_mm\":{:.9g},"
-                   "\"below_mm\":{:.9g},\"above_mm\":{:.9g},\"area_mm2\":{:.9g},\"polygons\":[",
-                   l.index, vec(l.frame.origin), vec(l.frame.d), vec(l.frame.u), vec(l.frame.v), l.height_mm, l.thickness_mm(),
-                   l.below_mm, l.above_mm, l.area_mm2);
-    for (std::size_t p = 0; p < l.polygons.size(); ++p) {
-      if (p) out += ',';
-      out += "{\"outer\":";
-      append_ring(out, l.polygons[p].outer);
-      out += ",\"holes\":[";
-      for (std::size_t h = 0; h < l.polygons[p].holes.size(); ++h) {
-        if (h) out += ',';
-        append_ring(out, l.polygons[p].holes[h]);
-      }
-      out += "]}";
-    }
-    out += "]}";
+    out += parts[k];
   }
   out += "\n]}\n";
   return out;

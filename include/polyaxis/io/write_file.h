@@ -8,8 +8,14 @@
 
 namespace polyaxis::io {
 
-// Writes BYTES to a temporary file beside PATH, fsyncs it and renames it over PATH. On any
-// failure the temporary file is removed and PATH is untouched: Error kOutput naming the path.
-core::Status write_file_atomic(const std::string& path, std::string_view bytes);
+enum class Durability {
+  kSynced,  // fsync before the rename: the file survives a power cut (machine code)
+  kAtomic,  // rename only: readers and failures never see a partial file (reports, layers)
+};
+
+// Writes BYTES to a temporary file beside PATH and renames it over PATH (after an fsync when
+// kSynced). On any failure the temporary file is removed and PATH is untouched: Error kOutput
+// naming the path.
+core::Status write_file_atomic(const std::string& path, std::string_view bytes, Durability durability = Durability::kSynced);
 
 }  // namespace polyaxis::io

@@ -1,10 +1,12 @@
-// read_cad: STEP and IGES through the OpenCASCADE child process (RELIABILITY.md F16).
+// read_cad: STEP and IGES through the polyaxis-cad-import helper process (RELIABILITY.md F16).
 // The corpus parts were written by OpenCASCADE's STEPControl_Writer / IGESControl_Writer from
 // BRepPrimAPI_MakeBox(10, 10, 10) and BRepPrimAPI_MakeCylinder(5, 10).
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <sys/stat.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -50,6 +52,27 @@ class ScopedEnv {
 
  private:
   const char* name_;
+};
+
+// Writes an executable shell script with BODY to a fresh temporary file; removes it on scope exit.
+class ScopedScript {
+ public:
+  explicit ScopedScript(const std::string& body) {
+    const int fd = ::mkstemp(path_);
+    if (fd < 0) return;
+    ok_ = ::write(fd, body.data(), body.size()) == static_cast<ssize_t>(body.size()) && ::fchmod(fd, 0700) == 0;
+    ::close(fd);
+  }
+  ~ScopedScript() { ::unlink(path_); }
+  ScopedScript(const ScopedScript&) = delete;
+  ScopedScript& operator=(const ScopedScript&) = delete;
+
+  bool ok() const { return ok_; }
+  const char* path() const { return path_; }
+
+ private:
+  char path_[32] = "/tmp/polyaxis-test-cad-XXXXXX";
+  bool ok_ = false;
 };
 
 void expect_cube(const core::Result<ReadResult>& result, Format format) {
@@ -177,6 +200,87 @@ TEST(ReadCad, TriangleCapIsEnforced) {
   ASSERT_FALSE(result.ok());
   EXPECT_EQ(result.error().code, ErrorCode::kInvalidInput);
   EXPECT_NE(result.error().message.find("max-triangles"), std::string::npos) << result.error().message;
+}
+
+TEST(ReadCad, ImporterFromEnvironmentIsUsed) {
+  // A stand-in helper that exits 0 without writing: read_cad ran it, and refuses its empty result.
+  const ScopedScript fake("#!/bin/sh\nexit 0\n");
+  ASSERT_TRUE(fake.ok());
+  const ScopedEnv importer("POLYAXIS_CAD_IMPORTER", fake.path());
+  const auto result = read_cad(corpus("cube.step"), Format::kStep);
+  ASSERT_FALSE(result.ok());
+  EXPECT_EQ(result.error().code, ErrorCode::kInternal);
+  EXPECT_NE(result.error().message.find("bad result"), std::string::npos) << result.error().message;
+}
+
+TEST(ReadCad, MissingImporterInEnvironmentFallsBackToTheBuiltOne) {
+  const ScopedEnv importer("POLYAXIS_CAD_IMPORTER", "/nonexistent/polyaxis-cad-import");
+  expect_cube(read_cad(corpus("cube.step"), Format::kStep), Format::kStep);
+}
+
+TEST(ReadCad, ImporterThatCannotBeExecutedIsReported) {
+  // execv fails (ENOENT for the interpreter); the errno comes back through the exec pipe.
+  const ScopedScript broken("#!/nonexistent/interpreter\n");
+  ASSERT_TRUE(broken.ok());
+  const ScopedEnv importer("POLYAXIS_CAD_IMPORTER", broken.path());
+  const auto result = read_cad(corpus("cube.step"), Format::kStep);
+  ASSERT_FALSE(result.ok());
+  EXPECT_EQ(result.error().code, ErrorCode::kInvalidInput);
+  EXPECT_NE(result.error().message.find("cannot run"), std::string::npos) << result.error().message;
+  EXPECT_NE(result.error().message.find("No such file"), std::string::npos) << result.error().message;
+}
+
+TEST(ReadCad, HelperInheritsTheResultDescriptorAndNoOther) {
+  // A stand-in helper that fails unless the descriptor named by --result-fd is open and a
+  // descriptor this process opened without O_CLOEXEC is not.
+  const ScopedScript probe(
+      "#!/bin/sh\n"
+      "while [ \"$1\" != --result-fd ]; do shift; done\n"
+      "[ -e /proc/$$/fd/$2 ] || exit 11\n"
+      "[ ! -e /proc/$$/fd/$POLYAXIS_TEST_LEAKY_FD ] || exit 12\n"
+      "exit 0\n");
+  ASSERT_TRUE(probe.ok());
+  const int leaky = ::open("/dev/null", O_RDONLY);  // deliberately without O_CLOEXEC
+  ASSERT_GE(leaky, 0);
+  const std::string leaky_name = std::to_string(leaky);
+  const ScopedEnv leaky_env("POLYAXIS_TEST_LEAKY_FD", leaky_name.c_str());
+  const ScopedEnv importer("POLYAXIS_CAD_IMPORTER", probe.path());
+  const auto result = read_cad(corpus("cube.step"), Format::kStep);
+  ::close(leaky);
+  ASSERT_FALSE(result.ok());
+  // Exit 0 without a header is the "bad result" of a probe that found what it expected.
+  EXPECT_NE(result.error().message.find("no header, exit 0"), std::string::npos) << result.error().message;
+}
+
+TEST(ReadCad, WorksWithStandardStreamsClosed) {
+  // The result file, /dev/null and the exec pipe then open on 0..2, which the child points at
+  // /dev/null; read_cad must move them out of the way. Run in a child so this process keeps its
+  // streams; the helper's streams are checked by a stand-in, the import by the real helper.
+  const ScopedScript probe(
+      "#!/bin/sh\n"
+      "while [ \"$1\" != --result-fd ]; do shift; done\n"
+      "[ -e /proc/$$/fd/$2 ] || exit 11\n"
+      "for fd in 0 1 2; do [ \"$(readlink /proc/$$/fd/$fd)\" = /dev/null ] || exit 13; done\n"
+      "exit 0\n");
+  ASSERT_TRUE(probe.ok());
+  const std::string cube = corpus("cube.step");
+  const std::string probe_path = probe.path();
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::close(STDIN_FILENO);
+    ::close(STDOUT_FILENO);
+    ::close(STDERR_FILENO);
+    const auto imported = read_cad(cube, Format::kStep);
+    if (!imported.ok() || imported.value().mesh.triangles.size() != 12) ::_exit(1);
+    ::setenv("POLYAXIS_CAD_IMPORTER", probe_path.c_str(), 1);
+    const auto probed = read_cad(cube, Format::kStep);
+    ::_exit(!probed.ok() && probed.error().message.find("no header, exit 0") != std::string::npos ? 0 : 2);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "1: import failed, 2: the helper's streams or result fd were wrong";
 }
 
 TEST(ReadCad, RepeatedImportsLeakNoDescriptorsNorChildren) {
