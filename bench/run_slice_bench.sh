@@ -119,7 +119,7 @@ for k in $levels; do
   f=bench/data/$name.stl
   tris=$(( ($(stat -c %s "$f") - 84) / 50 ))
   echo "== $name ($tris triangles)" >&2
-  summary=$("$cli" slice "$f" --layer "$layer" -o "$tmp/out" 2>"$tmp/polyaxis.err") ||
+  summary=$("$cli" --quiet slice "$f" --layer "$layer" -o "$tmp/out" 2>"$tmp/polyaxis.err") ||
     { cat "$tmp/polyaxis.err" >&2; exit 1; }
   layers=${summary%% layers*}
   [ -s "$tmp/polyaxis.err" ] && notes+=("polyaxis on $name said: $(tr '\n' ' ' <"$tmp/polyaxis.err")")

@@ -89,7 +89,7 @@ int run_slice(SliceCommandOptions& o) {
   if (!loaded) return report_error(loaded.error());
   const LoadedPart& part = loaded.value();
   for (const auto& w : part.warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str());
-  auto sliced = slicing::slice(part.repaired.mesh, o.slice);
+  auto sliced = slicing::slice(part.repaired.mesh, o.slice, &part.repaired.topology);
   if (!sliced) return report_error(sliced.error());
   const slicing::SliceResult& r = sliced.value();
   std::size_t warnings = part.warnings.size();

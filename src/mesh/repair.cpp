@@ -311,8 +311,13 @@ core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options)
   // Every non-manifold edge was split (or refused) above; only holes kept open leave boundaries.
   out.watertight = topo.boundary_edges == 0;
   out.manifold = topo.nonmanifold_edges == 0;
+  const std::uint64_t inverted_before = report.inverted_shells;
+  const bool several_components = !component.empty() && *std::max_element(component.begin(), component.end()) > 0;
   out.shells = detail::build_shells(mesh, component, report.open_holes == 0, report);
-  report.unused_vertices += detail::remove_unused_vertices(mesh);
+  report.unused_vertices += detail::remove_unused_vertices(mesh);  // renumbers vertices, not faces
+  // Several shells are regrouped and inverted shells flipped: only then are half-edges renumbered.
+  if (several_components || report.inverted_shells != inverted_before) topo = build_topology(mesh);
+  out.topology = std::move(topo);
 
   if (options.check_self_intersections) {
     out.self_intersecting = self_intersecting_faces(mesh);

@@ -19,8 +19,9 @@ Frame plane_frame(Vec3 direction, double height_mm) {
   return f;
 }
 
-SectionContext::SectionContext(const mesh::Mesh& mesh, Vec3 direction)
-    : mesh_(mesh), topology_(mesh::build_topology(mesh)), d_(core::normalized(direction)) {
+SectionContext::SectionContext(const mesh::Mesh& mesh, Vec3 direction, const mesh::EdgeTopology* topology)
+    : mesh_(mesh), topology_(topology), d_(core::normalized(direction)) {
+  if (topology_ == nullptr) own_topology_ = mesh::build_topology(mesh);
   height_.resize(mesh.vertices.size());
   min_ = INFINITY;
   max_ = -INFINITY;
@@ -28,14 +29,6 @@ SectionContext::SectionContext(const mesh::Mesh& mesh, Vec3 direction)
     height_[i] = core::dot(mesh.vertices[i], d_);
     min_ = std::min(min_, height_[i]);
     max_ = std::max(max_, height_[i]);
-  }
-  face_min_.resize(mesh.triangles.size());
-  face_max_.resize(mesh.triangles.size());
-  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
-    const auto& t = mesh.triangles[f];
-    const double a = height_[t[0]], b = height_[t[1]], c = height_[t[2]];
-    face_min_[f] = std::min({a, b, c});
-    face_max_[f] = std::max({a, b, c});
   }
 }
 
@@ -68,21 +61,38 @@ SectionResult section(const SectionContext& ctx, double h, const Frame& frame, s
   SectionResult result;
   std::vector<Segment> segments;
   for (const std::uint32_t f : candidates) {
-    if (!(ctx.face_min(f) < h && h <= ctx.face_max(f))) continue;  // the tie rule, per face
+    // The tie rule, once per corner: a corner is above when its height is >= h.
+    const auto& t = m.triangles[f];
+    const bool above[3] = {ctx.height(t[0]) >= h, ctx.height(t[1]) >= h, ctx.height(t[2]) >= h};
+    if (above[0] == above[1] && above[1] == above[2]) continue;  // not crossed
     Segment s{kNoHalfEdge, kNoHalfEdge};
     for (std::uint32_t k = 0; k < 3; ++k) {
-      const std::uint32_t he = 3 * f + k;
-      const bool from_above = ctx.height(mesh::half_edge_from(m, he)) >= h;
-      const bool to_above = ctx.height(mesh::half_edge_to(m, he)) >= h;
-      if (from_above && !to_above) s.start_he = he;
-      if (!from_above && to_above) s.end_he = he;
+      const bool from_above = above[k], to_above = above[(k + 1) % 3];
+      if (from_above && !to_above) s.start_he = 3 * f + k;
+      if (!from_above && to_above) s.end_he = 3 * f + k;
     }
     segments.push_back(s);
   }
   if (segments.empty()) return result;
-  auto& start_of = scratch.segment_of_start;
-  if (start_of.size() < opposite.size()) start_of.assign(opposite.size(), kNoHalfEdge);
-  for (std::uint32_t i = 0; i < segments.size(); ++i) start_of[segments[i].start_he] = i;
+  // Map from starting half-edge to segment: open addressing at load <= 1/2.
+  constexpr std::uint64_t kFree = ~std::uint64_t{0};
+  std::size_t capacity = 64;
+  while (capacity < 2 * segments.size()) capacity *= 2;
+  auto& slots = scratch.slots;
+  slots.assign(capacity, kFree);
+  const std::uint64_t mask = capacity - 1;
+  auto slot_hash = [](std::uint32_t he) { return (static_cast<std::uint64_t>(he) * 0x9E3779B97F4A7C15ULL) >> 20; };
+  for (std::uint32_t i = 0; i < segments.size(); ++i) {
+    std::uint64_t s = slot_hash(segments[i].start_he) & mask;
+    while (slots[s] != kFree) s = (s + 1) & mask;
+    slots[s] = (static_cast<std::uint64_t>(segments[i].start_he) << 32) | i;
+  }
+  auto start_of = [&](std::uint32_t he) -> std::uint32_t {
+    for (std::uint64_t s = slot_hash(he) & mask; slots[s] != kFree; s = (s + 1) & mask) {
+      if ((slots[s] >> 32) == he) return static_cast<std::uint32_t>(slots[s]);
+    }
+    return kNoHalfEdge;
+  };
 
   std::vector<char> used(segments.size(), 0);
   std::vector<geom2d::Ring> rings;
@@ -97,7 +107,7 @@ SectionResult section(const SectionContext& ctx, double h, const Frame& frame, s
       const geom2d::Point p = crossing(ctx, frame, segments[i].start_he, h);
       if (ring.empty() || !(ring.back() == p)) ring.push_back(p);
       const std::uint32_t twin = opposite[segments[i].end_he];
-      const std::uint32_t next = twin == kNoHalfEdge ? kNoHalfEdge : start_of[twin];
+      const std::uint32_t next = twin == kNoHalfEdge ? kNoHalfEdge : start_of(twin);
       if (next == first) {
         closed = true;
         break;
@@ -113,7 +123,6 @@ SectionResult section(const SectionContext& ctx, double h, const Frame& frame, s
     if (ring.size() >= 3) rings.push_back(std::move(ring));
     ring = geom2d::Ring();
   }
-  for (const Segment& s : segments) start_of[s.start_he] = kNoHalfEdge;  // leave the scratch clean
   result.polygons = geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
   for (const auto& p : result.polygons) result.area_mm2 += geom2d::area_mm2(p);
   return result;

@@ -60,14 +60,14 @@ core::Status validate(const SliceOptions& o) {
   return {};
 }
 
-core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& options) {
+core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& options, const mesh::EdgeTopology* topology) {
   if (auto s = validate(options); !s) return s.error();
   if (mesh.triangles.empty()) return make_error(ErrorCode::kInvalidInput, "nothing to slice: the mesh has no faces");
   std::unique_ptr<tbb::global_control> limit;
   if (options.threads > 0) {
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
   }
-  const SectionContext ctx(mesh, options.direction);
+  const SectionContext ctx(mesh, options.direction, topology);
   if (options.adaptive) return detail::slice_adaptive(ctx, options);
 
   const double t = options.layer_mm;
@@ -79,31 +79,34 @@ core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& opti
     return make_error(ErrorCode::kUsage, fmt::format("--layer {} mm gives {} layers over {} mm; at most {}", t, count, span, kMaxLayers));
   }
   const auto n = static_cast<std::size_t>(std::max<std::int64_t>(count, 1));
-  // Layers each face spans: lo = first k with plane(k) > face_min, hi = last k with plane(k) <= face_max.
+  // Layers each face spans: lo = first k with plane(k) > face_min, hi = last k with
+  // plane(k) <= face_max; computed in both passes of the counting sort rather than stored.
   const std::size_t nf = mesh.triangles.size();
+  const auto last = static_cast<std::int64_t>(n) - 1;
+  auto layer_range = [&](std::uint32_t f) {
+    const double fmin = ctx.face_min(f), fmax = ctx.face_max(f);
+    std::int64_t a = static_cast<std::int64_t>(std::floor((fmin - base) / t - 0.5)) + 1;
+    while (a > 0 && plane_height(base, t, a - 1) > fmin) --a;
+    while (plane_height(base, t, a) <= fmin) ++a;
+    std::int64_t b = static_cast<std::int64_t>(std::floor((fmax - base) / t - 0.5));
+    while (plane_height(base, t, b + 1) <= fmax) ++b;
+    while (b >= a && plane_height(base, t, b) > fmax) --b;
+    return std::pair<std::int64_t, std::int64_t>{std::max<std::int64_t>(a, 0), std::min<std::int64_t>(b, last)};
+  };
   std::vector<std::uint32_t> start(n + 1, 0);
-  std::vector<std::int64_t> lo(nf), hi(nf);
   for (std::uint32_t f = 0; f < nf; ++f) {
-    std::int64_t a = static_cast<std::int64_t>(std::floor((ctx.face_min(f) - base) / t - 0.5)) + 1;
-    while (a > 0 && plane_height(base, t, a - 1) > ctx.face_min(f)) --a;
-    while (plane_height(base, t, a) <= ctx.face_min(f)) ++a;
-    std::int64_t b = static_cast<std::int64_t>(std::floor((ctx.face_max(f) - base) / t - 0.5));
-    while (plane_height(base, t, b + 1) <= ctx.face_max(f)) ++b;
-    while (b >= a && plane_height(base, t, b) > ctx.face_max(f)) --b;
-    lo[f] = std::max<std::int64_t>(a, 0);
-    hi[f] = std::min<std::int64_t>(b, static_cast<std::int64_t>(n) - 1);
-    for (std::int64_t k = lo[f]; k <= hi[f]; ++k) ++start[static_cast<std::size_t>(k) + 1];
+    const auto [lo, hi] = layer_range(f);
+    for (std::int64_t k = lo; k <= hi; ++k) ++start[static_cast<std::size_t>(k) + 1];
   }
   for (std::size_t k = 0; k < n; ++k) start[k + 1] += start[k];
   std::vector<std::uint32_t> bucket(start[n]);
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::uint32_t f = 0; f < nf; ++f) {
-      for (std::int64_t k = lo[f]; k <= hi[f]; ++k) bucket[fill[static_cast<std::size_t>(k)]++] = f;
+      const auto [lo, hi] = layer_range(f);
+      for (std::int64_t k = lo; k <= hi; ++k) bucket[fill[static_cast<std::size_t>(k)]++] = f;
     }
   }
-  lo = {};
-  hi = {};
 
   SliceResult result;
   result.layers.resize(n);

@@ -10,6 +10,7 @@
 #include "polyaxis/core/tolerances.h"
 #include "polyaxis/io/raw_mesh.h"
 #include "polyaxis/mesh/mesh.h"
+#include "polyaxis/mesh/topology.h"
 
 namespace polyaxis::mesh {
 
@@ -47,6 +48,7 @@ struct RepairedMesh {
   RepairReport report;
   std::vector<std::uint32_t> self_intersecting;  // face indices in `mesh`, sorted
   std::vector<std::string> warnings;              // unit suspicions (F8) and the like
+  EdgeTopology topology;      // edge adjacency of `mesh`, for the stages after repair
   bool watertight = false;  // every edge has exactly two faces
   bool manifold = false;    // every edge has at most two faces and every vertex one fan
 };

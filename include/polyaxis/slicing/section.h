@@ -13,6 +13,7 @@
 // on a closed manifold mesh for any d.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -29,31 +30,39 @@ namespace polyaxis::slicing {
 class SectionContext {
  public:
   // MESH must outlive the context. Precondition: closed, manifold, consistently oriented
-  // (mesh::repair output). Cost: O(V + F).
-  SectionContext(const mesh::Mesh& mesh, Vec3 direction);
+  // (mesh::repair output). TOPOLOGY: the mesh's edge adjacency when the caller has it (repair
+  // does), else it is built here. Cost: O(V + F).
+  SectionContext(const mesh::Mesh& mesh, Vec3 direction, const mesh::EdgeTopology* topology = nullptr);
 
   const mesh::Mesh& mesh() const { return mesh_; }
-  const mesh::EdgeTopology& topology() const { return topology_; }
+  const mesh::EdgeTopology& topology() const { return topology_ ? *topology_ : own_topology_; }
   Vec3 direction() const { return d_; }
   double height(std::uint32_t vertex) const { return height_[vertex]; }
   double min_height() const { return min_; }
   double max_height() const { return max_; }
-  // Lowest and highest corner height of face F.
-  double face_min(std::uint32_t f) const { return face_min_[f]; }
-  double face_max(std::uint32_t f) const { return face_max_[f]; }
+  // Lowest and highest corner height of face F (computed on demand: 16 bytes a face saved).
+  double face_min(std::uint32_t f) const {
+    const auto& t = mesh_.triangles[f];
+    return std::min({height_[t[0]], height_[t[1]], height_[t[2]]});
+  }
+  double face_max(std::uint32_t f) const {
+    const auto& t = mesh_.triangles[f];
+    return std::max({height_[t[0]], height_[t[1]], height_[t[2]]});
+  }
 
  private:
   const mesh::Mesh& mesh_;
-  mesh::EdgeTopology topology_;
+  const mesh::EdgeTopology* topology_;
+  mesh::EdgeTopology own_topology_;
   Vec3 d_;
   std::vector<double> height_;
-  std::vector<double> face_min_, face_max_;
   double min_ = 0.0, max_ = 0.0;
 };
 
-// Reusable per-thread memory for sections (a slot per half-edge).
+// Reusable per-thread memory for sections: an open-addressing map from a segment's starting
+// half-edge to the segment, sized to the section (not to the mesh).
 struct SectionScratch {
-  std::vector<std::uint32_t> segment_of_start;  // half-edge -> segment starting there
+  std::vector<std::uint64_t> slots;  // (half-edge << 32 | segment), or ~0 when free
 };
 
 struct SectionResult {

@@ -7,6 +7,7 @@
 
 #include "polyaxis/core/result.h"
 #include "polyaxis/mesh/mesh.h"
+#include "polyaxis/mesh/topology.h"
 #include "polyaxis/slicing/layer.h"
 
 namespace polyaxis::slicing {
@@ -50,7 +51,8 @@ core::Status validate(const SliceOptions& options);
 // Slices MESH (closed, manifold, outward: mesh::repair output). Uniform layers of thickness t
 // start at the mesh's lowest point along d; layer k's plane is at min + (k + ½)·t, so
 // Σ area × t is the midpoint rule for the volume. Layers are cut in parallel; the result is the
-// same at any thread count. Cost: O(F log F + crossings).
-core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& options);
+// same at any thread count. TOPOLOGY: the mesh's edge adjacency if the caller has it
+// (RepairedMesh::topology), else it is built. Cost: O(F + crossings + layers).
+core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& options, const mesh::EdgeTopology* topology = nullptr);
 
 }  // namespace polyaxis::slicing
