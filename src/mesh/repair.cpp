@@ -46,14 +46,15 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 
 }  // namespace
 
-std::uint64_t merge_vertices(Mesh& mesh, double tol_mm) {
-  const std::size_t n = mesh.vertices.size();
+std::uint64_t merge_vertices(Mesh& mesh, double tol_mm, std::span<const std::uint32_t> candidates) {
+  const std::size_t n = candidates.size();
   if (tol_mm <= 0.0 || n < 2) return 0;
   const double cell = 16.0 * tol_mm;  // a point is within tol of a cell face with probability 1/8
   constexpr std::uint32_t kEmpty = 0xffffffffu;
+  auto point = [&](std::uint32_t i) { return mesh.vertices[candidates[i]]; };
   std::vector<Cell> cells(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 p = mesh.vertices[i];
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Vec3 p = point(i);
     cells[i] = {static_cast<std::int64_t>(std::floor(p.x / cell)), static_cast<std::int64_t>(std::floor(p.y / cell)),
                 static_cast<std::int64_t>(std::floor(p.z / cell))};
   }
@@ -78,7 +79,7 @@ std::uint64_t merge_vertices(Mesh& mesh, double tol_mm) {
   const double tol2 = tol_mm * tol_mm;
   std::uint64_t unions = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
-    const Vec3 p = mesh.vertices[i];
+    const Vec3 p = point(i);
     const Cell c = cells[i];
     int lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
@@ -92,7 +93,7 @@ std::uint64_t merge_vertices(Mesh& mesh, double tol_mm) {
           const Cell q{c.x + dx, c.y + dy, c.z + dz};
           const std::uint64_t s = slot_of(q);
           for (std::uint32_t j = head[s]; j != kEmpty && j < i; j = next[j]) {
-            const Vec3 d = mesh.vertices[j] - p;
+            const Vec3 d = point(j) - p;
             if (dot(d, d) > tol2) continue;
             const std::uint32_t ri = find_root(parent, i), rj = find_root(parent, j);
             if (ri != rj) {
@@ -105,23 +106,27 @@ std::uint64_t merge_vertices(Mesh& mesh, double tol_mm) {
     }
   }
   if (unions == 0) return 0;
-  std::vector<std::uint32_t> remap(n);
-  std::vector<Vec3> kept;
-  kept.reserve(n - unions);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const std::uint32_t r = find_root(parent, i);
-    if (r == i) {
-      remap[i] = static_cast<std::uint32_t>(kept.size());
-      kept.push_back(mesh.vertices[i]);
-    } else {
-      remap[i] = remap[r];  // r < i, already numbered
-    }
-  }
+  // Each merged vertex takes the id (and position) of the lowest candidate in its cluster; the
+  // vertices left unused are removed by the caller.
+  std::vector<std::uint32_t> remap(mesh.vertices.size());
+  std::iota(remap.begin(), remap.end(), 0u);
+  for (std::uint32_t i = 0; i < n; ++i) remap[candidates[i]] = candidates[find_root(parent, i)];
   for (Triangle& t : mesh.triangles) {
     for (auto& v : t) v = remap[v];
   }
-  mesh.vertices = std::move(kept);
   return unions;
+}
+
+std::vector<std::uint32_t> open_vertices(const Mesh& mesh, const EdgeTopology& topo) {
+  std::vector<char> open(mesh.vertices.size(), 0);
+  for (std::uint32_t h = 0; h < topo.opposite.size(); ++h) {
+    if (topo.opposite[h] == kNoHalfEdge) open[half_edge_from(mesh, h)] = open[half_edge_to(mesh, h)] = 1;
+  }
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t v = 0; v < open.size(); ++v) {
+    if (open[v]) out.push_back(v);
+  }
+  return out;
 }
 
 std::uint64_t remove_degenerate_faces(Mesh& mesh) {
@@ -274,11 +279,22 @@ core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options)
   // metres or microns is not collapsed into a point before the unit warning can be given.
   const double diagonal = norm(bounding_box(mesh).size());
   const double merge_mm = std::min(options.merge_mm, kMaxMergeShareOfDiagonal * diagonal);
-  report.merged_vertices = detail::merge_vertices(mesh, merge_mm);
   report.degenerate_faces = detail::remove_degenerate_faces(mesh);
   if (mesh.triangles.empty()) return core::make_error(ErrorCode::kInvalidInput, "no geometry: every face is degenerate");
-
   EdgeTopology topo = build_topology(mesh);
+  // Only vertices on open or non-manifold edges can close a crack by merging (T9); on a closed
+  // mesh nothing needs searching, and two shells that merely come close stay apart.
+  if (!topo.closed()) {
+    const std::vector<std::uint32_t> open = detail::open_vertices(mesh, topo);
+    report.merged_vertices = detail::merge_vertices(mesh, merge_mm, open);
+    if (report.merged_vertices > 0) {
+      report.degenerate_faces += detail::remove_degenerate_faces(mesh);
+      report.unused_vertices += detail::remove_unused_vertices(mesh) - report.merged_vertices;
+      if (mesh.triangles.empty()) return core::make_error(ErrorCode::kInvalidInput, "no geometry: every face is degenerate");
+      topo = build_topology(mesh);
+    }
+  }
+
   report.duplicate_faces = detail::remove_duplicate_faces(mesh, topo);
   if (report.duplicate_faces > 0) topo = build_topology(mesh);
   report.nonmanifold_edges = topo.nonmanifold_edges;

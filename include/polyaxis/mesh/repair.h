@@ -24,7 +24,7 @@ struct RepairOptions {
 
 // What repair did. Every count is zero on a clean closed mesh.
 struct RepairReport {
-  std::uint64_t merged_vertices = 0;         // T9: vertices merged into a neighbour within merge_mm
+  std::uint64_t merged_vertices = 0;         // T9: vertices of open edges merged into a neighbour within merge_mm
   std::uint64_t unused_vertices = 0;         // vertices no face referenced
   std::uint64_t degenerate_faces = 0;        // T5: repeated vertex or zero area, removed
   std::uint64_t duplicate_faces = 0;         // T4: same three vertices as another face, removed

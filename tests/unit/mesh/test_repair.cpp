@@ -68,8 +68,8 @@ TEST(Repair, T1RefusesLargeHolesUnlessAllowed) {
 }
 
 TEST(Repair, T2SplitsNonManifoldEdge) {
-  // Two cubes sharing the edge x=10, y=10 (z 0..10).
-  io::RawMesh m = test::join(test::cube(), test::box({10, 10, 0}, {20, 20, 10}));
+  // Two cubes sharing the edge x=10, y=10 (z 0..10), as a soup (as STL delivers it).
+  io::RawMesh m = test::soup(test::join(test::cube(), test::box({10, 10, 0}, {20, 20, 10})));
   auto r = repair(m);
   ASSERT_TRUE(r.ok()) << r.error().message;
   expect_clean(r.value());
@@ -154,6 +154,16 @@ TEST(Repair, T8OutwardNestedShellIsUnited) {
   ASSERT_EQ(r.value().shells.size(), 1u);
   EXPECT_EQ(r.value().report.interior_shells_removed, 1u);
   EXPECT_DOUBLE_EQ(signed_volume(r.value().mesh), 1000.0);
+}
+
+TEST(Repair, ClosedShellsThatOnlyTouchAreNotMerged) {
+  // Two closed cubes with their own vertices meeting along an edge: nothing is open, so nothing
+  // is merged; they stay two solids (slicing unites them).
+  auto r = repair(test::join(test::cube(), test::box({10, 10, 0}, {20, 20, 10})));
+  ASSERT_TRUE(r.ok());
+  expect_clean(r.value());
+  EXPECT_EQ(r.value().report.merged_vertices, 0u);
+  EXPECT_EQ(r.value().shells.size(), 2u);
 }
 
 TEST(Repair, T9MergesNearCoincidentVertices) {
