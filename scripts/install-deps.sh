@@ -13,6 +13,8 @@ packages=(
   libcli11-dev libfmt-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # a real G-code interpreter (rs274) for tests/unit/machine/test_rs274.cpp
+  linuxcnc-uspace
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "No progress output on stderr");
   const app::Runner inspect = app::add_inspect_command(app);
   const app::Runner slice = app::add_slice_command(app);
+  const app::Runner plan = app::add_plan_command(app);
+  const app::Runner simulate = app::add_simulate_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -39,6 +41,8 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("inspect")) return inspect();
     if (app.got_subcommand("slice")) return slice();
+    if (app.got_subcommand("plan")) return plan();
+    if (app.got_subcommand("simulate")) return simulate();
     return 2;
   } catch (const core::InvariantError& e) {
     std::fprintf(stderr, "polyaxis: internal error: %s\n", e.what());

@@ -71,3 +71,53 @@ void PointWelder::grow() {
 }
 
 }  // namespace polyaxis::io
+
+namespace polyaxis::io {
+namespace {
+
+std::uint64_t hash_float_point(float x, float y, float z) {
+  const auto bx = std::bit_cast<std::uint32_t>(x), by = std::bit_cast<std::uint32_t>(y), bz = std::bit_cast<std::uint32_t>(z);
+  return mix((static_cast<std::uint64_t>(bx) << 32 | by) * 0x9E3779B97F4A7C15ULL ^ bz);
+}
+
+}  // namespace
+
+FloatPointWelder::FloatPointWelder(std::vector<core::Vec3>& points, std::size_t expected_points) : points_(points) {
+  std::size_t capacity = 1024;
+  while (capacity < 2 * expected_points) capacity *= 2;
+  slots_.assign(capacity, Slot{0, 0, 0, kEmpty});
+  mask_ = capacity - 1;
+}
+
+std::uint32_t FloatPointWelder::index_of(float x, float y, float z) {
+  x += 0.0f;  // -0 + 0 = +0 (T9)
+  y += 0.0f;
+  z += 0.0f;
+  const std::uint64_t h = hash_float_point(x, y, z);
+  std::uint64_t s = h & mask_;
+  while (true) {
+    const Slot& slot = slots_[s];
+    if (slot.index == kEmpty) break;
+    if (slot.x == x && slot.y == y && slot.z == z) return slot.index;
+    s = (s + 1) & mask_;
+  }
+  const auto index = static_cast<std::uint32_t>(points_.size());
+  points_.push_back({x, y, z});
+  slots_[s] = Slot{x, y, z, index};
+  if (2 * points_.size() > slots_.size()) grow();
+  return index;
+}
+
+void FloatPointWelder::grow() {
+  std::vector<Slot> old(slots_.size() * 2, Slot{0, 0, 0, kEmpty});
+  old.swap(slots_);
+  mask_ = slots_.size() - 1;
+  for (const Slot& slot : old) {
+    if (slot.index == kEmpty) continue;
+    std::uint64_t s = hash_float_point(slot.x, slot.y, slot.z) & mask_;
+    while (slots_[s].index != kEmpty) s = (s + 1) & mask_;
+    slots_[s] = slot;
+  }
+}
+
+}  // namespace polyaxis::io

@@ -80,7 +80,7 @@ core::Result<ReadResult> read_binary(std::string_view data, const std::string& n
   RawMesh& mesh = result.mesh;
   mesh.triangles.resize(n);
   mesh.points.reserve(n / 2 + 16);
-  PointWelder welder(mesh.points, n / 2 + 16);
+  FloatPointWelder welder(mesh.points, n / 2 + 16);
   std::uint64_t nan_normals = 0;
   const char* rec = data.data() + kHeaderBytes;
   for (std::uint64_t t = 0; t < n; ++t, rec += kRecordBytes) {
@@ -89,13 +89,13 @@ core::Result<ReadResult> read_binary(std::string_view data, const std::string& n
     }
     for (int c = 0; c < 3; ++c) {
       const char* v = rec + 12 + 12 * c;
-      const Vec3 p{read_f32(v), read_f32(v + 4), read_f32(v + 8)};
-      if (!core::is_finite(p)) {
+      const float x = read_f32(v), y = read_f32(v + 4), z = read_f32(v + 8);
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
         return make_error(ErrorCode::kInvalidInput,
                           fmt::format("{}: facet {} (byte offset {}) has a NaN or infinite vertex", name, t,
                                       kHeaderBytes + t * kRecordBytes + 12 + 12 * static_cast<unsigned>(c)));
       }
-      mesh.triangles[t][static_cast<std::size_t>(c)] = welder.index_of(p);
+      mesh.triangles[t][static_cast<std::size_t>(c)] = welder.index_of(x, y, z);
     }
   }
   if (nan_normals > 0) warnings.push_back(fmt::format("{} facets had a NaN or infinite normal; normals are recomputed", nan_normals));

@@ -1,0 +1,126 @@
+// polyaxis plan PART [--machine M] [--process P] [--set K=V] [--dir X,Y,Z] [-o DIR]: the main job.
+// Writes DIR/<part>.ngc, DIR/plan.json and DIR/report.json (schema in docs/plan.md).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "commands.h"
+#include "config_options.h"
+#include "part_options.h"
+#include "polyaxis/io/write_file.h"
+#include "polyaxis/machine/gcode.h"
+#include "polyaxis/machine/simulate.h"
+#include "polyaxis/planner/plan.h"
+#include "polyaxis/report/plan_files.h"
+
+namespace polyaxis::app {
+namespace {
+
+struct PlanCommandOptions {
+  PartOptions part;
+  ConfigOptions configs;
+  std::string dir = "0,0,1";
+  std::string out_dir = "plan";
+  bool no_tilt = false;
+  bool json = false;
+  double chordal_mm = 0.01;
+  planner::PlanOptions plan;
+};
+
+core::Status parse_direction(const std::string& text, core::Vec3& out) {
+  std::stringstream s(text);
+  std::string item;
+  int i = 0;
+  while (std::getline(s, item, ',')) {
+    if (i >= 3) break;
+    try {
+      std::size_t used = 0;
+      const double v = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(v)) throw std::invalid_argument(item);
+      out[i++] = v;
+    } catch (const std::exception&) {
+      return core::make_error(core::ErrorCode::kUsage, fmt::format("--dir: '{}' is not a finite number", item));
+    }
+  }
+  if (i != 3) return core::make_error(core::ErrorCode::kUsage, fmt::format("--dir: expected X,Y,Z, got '{}'", text));
+  return {};
+}
+
+int run_plan(PlanCommandOptions& o) {
+  if (auto s = parse_direction(o.dir, o.plan.direction); !s) return report_error(s.error());
+  o.plan.tilt_on_overhang = !o.no_tilt;
+  auto configs = load_configs(o.configs);
+  if (!configs) return report_error(configs.error());
+  const motion::MachineConfig& machine = configs.value().machine;
+  const motion::ProcessConfig& process = configs.value().process;
+  auto loaded = load_part(o.part);
+  if (!loaded) return report_error(loaded.error());
+  std::size_t warnings = 0;
+  for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
+
+  auto planned = planner::make_plan(loaded.value().repaired, machine, process, o.plan);
+  if (!planned) return report_error(planned.error());
+  const planner::Plan& plan = planned.value();
+  if (plan.thin_regions > 0) {
+    std::fprintf(stderr, "polyaxis: warning: %llu regions thinner than a bead (%.1f mm2) get no path; see plan.json\n",
+                 static_cast<unsigned long long>(plan.thin_regions), plan.thin_area_mm2);
+    ++warnings;
+  }
+  machine::GcodeOptions gopt;
+  gopt.chordal_mm = o.chordal_mm;
+  auto gcode = machine::write_gcode(machine, process, plan.program, gopt);
+  if (!gcode) return report_error(gcode.error());
+  // The program is checked by reading it back before anything is written.
+  auto sim = machine::simulate(machine, gcode.value(), plan.program, &process);
+  if (!sim) return report_error(sim.error());
+  if (sim.value().limit_violations > 0) {
+    return report_error(core::make_error(core::ErrorCode::kMachineLimit,
+                                         fmt::format("the program breaks a machine limit: {}", sim.value().violations.empty() ? "" : sim.value().violations.front())));
+  }
+
+  std::error_code ec;
+  std::filesystem::create_directories(o.out_dir, ec);
+  if (ec) return report_error(core::make_error(core::ErrorCode::kOutput, fmt::format("{}: cannot create: {}", o.out_dir, ec.message())));
+  const std::string stem = std::filesystem::path(o.part.path).stem().string();
+  const report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc"};
+  if (auto s = machine::save_gcode(o.out_dir + "/" + stem + ".ngc", gcode.value()); !s) return report_error(s.error());
+  if (auto s = io::write_file_atomic(o.out_dir + "/plan.json", report::plan_json(plan, meta), io::Durability::kAtomic); !s) {
+    return report_error(s.error());
+  }
+  const std::string report_text = report::report_json(plan, sim.value(), meta);
+  if (auto s = io::write_file_atomic(o.out_dir + "/report.json", report_text, io::Durability::kAtomic); !s) return report_error(s.error());
+  if (warnings > 0) std::fprintf(stderr, "polyaxis: %zu warnings\n", warnings);
+  if (o.json) {
+    std::fputs(report_text.c_str(), stdout);
+  } else {
+    std::printf("%zu layers, %.0f mm of deposit, build %.0f s, max tilt %.1f deg, %s (unsupported %.1f mm2) -> %s/%s.ngc\n",
+                plan.layers.layers.size(), plan.deposit_length_mm, sim.value().feed_time_s, plan.max_tilt_deg,
+                plan.unsupported_area_mm2 == 0.0 ? "support-free" : "NOT support-free", plan.unsupported_area_mm2, o.out_dir.c_str(),
+                stem.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Runner add_plan_command(CLI::App& app) {
+  auto o = std::make_shared<PlanCommandOptions>();
+  o->part.repair.check_self_intersections = false;
+  CLI::App* cmd = app.add_subcommand("plan", "Plan a part for a machine: layers, toolpaths with tool axes, G-code, report");
+  add_part_options(*cmd, o->part);
+  add_config_options(*cmd, o->configs, true);
+  cmd->add_option("--dir", o->dir, "Build direction X,Y,Z in the part's frame")->capture_default_str();
+  cmd->add_option("-o,--out", o->out_dir, "Output directory")->capture_default_str();
+  cmd->add_flag("--no-tilt", o->no_tilt, "Keep the torch along the build direction (planar 3-axis deposition)");
+  cmd->add_option("--perimeters", o->plan.perimeters, "Perimeters per island")->capture_default_str()->check(CLI::Range(0, 100));
+  cmd->add_option("--path-tolerance-mm", o->chordal_mm, "Largest tool-tip deviation from the path between G-code blocks, mm")
+      ->capture_default_str()->check(CLI::Range(1e-4, 1.0));
+  cmd->add_option("--threads", o->plan.threads, "Worker threads (0: all cores)");
+  cmd->add_flag("--json", o->json, "Print report.json instead of one line");
+  return [o] { return run_plan(*o); };
+}
+
+}  // namespace polyaxis::app

@@ -1,0 +1,73 @@
+// The main job: from a repaired part, a machine and a process to a machine program and the
+// figures an engineer checks (SPEC §1, §3). One region for now (the region tree comes with the
+// geometry-reasoning issue): planar layers along one build direction.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "polyaxis/core/result.h"
+#include "polyaxis/machine/program.h"
+#include "polyaxis/mesh/repair.h"
+#include "polyaxis/motion/machine.h"
+#include "polyaxis/motion/process.h"
+#include "polyaxis/slicing/slice.h"
+#include "polyaxis/toolpath/toolpath.h"
+
+namespace polyaxis::planner {
+
+using core::Vec3;
+
+struct PlanOptions {
+  Vec3 direction{0, 0, 1};   // build direction in the part's frame
+  bool tilt_on_overhang = true;  // Kapil Eq. 3 on overhanging outer contours (needs rotary axes)
+  int perimeters = 2;
+  double retract_mm = 5.0;   // lift along the tool axis between layers
+  int threads = 0;
+};
+
+// Support check (SPEC §3): a layer's area outside the layer below grown by t·tan(α), where α is
+// the self-supporting angle measured from the torch axis. A tilted torch moves the local build
+// direction: each piece of overhang is counted as supported when it lies within the layer below
+// grown by t·tan(α + θ), θ the largest tilt of the outer-contour points over that piece (within a
+// bead of it). With the torch along d everywhere this is the plain planar check.
+struct LayerReport {
+  std::uint32_t index = 0;
+  double height_mm = 0.0;
+  double thickness_mm = 0.0;
+  double area_mm2 = 0.0;
+  double unsupported_area_mm2 = 0.0;
+  double max_tilt_deg = 0.0;
+  std::uint32_t paths = 0;
+};
+
+struct Plan {
+  slicing::SliceResult layers;
+  std::vector<toolpath::LayerToolpaths> toolpaths;
+  std::vector<machine::ProgramPoint> program;  // tool tip and axis, part frame
+  std::vector<LayerReport> layer_reports;
+  Vec3 placement_mm;          // translation applied to the part: centred on the table, base at 0
+  double deposit_length_mm = 0.0;
+  double travel_length_mm = 0.0;
+  double unsupported_area_mm2 = 0.0;
+  double max_tilt_deg = 0.0;
+  std::uint64_t reorientations = 0;  // tool-axis changes of more than kReorientationDeg between points
+  std::uint64_t thin_regions = 0;
+  double thin_area_mm2 = 0.0;
+};
+
+// A change of tool axis larger than this between consecutive program points counts as a
+// reorientation (a distinct rotary move of the table).
+inline constexpr double kReorientationDeg = 5.0;
+// Unsupported area below this is snapping noise, not an overhang.
+inline constexpr double kUnsupportedNoiseMm2 = 0.01;
+
+// Places PART (translating it so that its base along the build direction sits on the table at
+// 0 and its footprint is centred on the rotary axis), slices it at the process's layer height,
+// makes toolpaths with the process's bead, checks support, and lists the program points.
+// Errors: bad options (kUsage), nothing to build (kInfeasible).
+core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
+                             const PlanOptions& options);
+
+}  // namespace polyaxis::planner

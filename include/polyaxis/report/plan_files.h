@@ -1,0 +1,35 @@
+// plan.json and report.json, the files `polyaxis plan` writes beside the G-code.
+#pragma once
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "polyaxis/core/result.h"
+#include "polyaxis/machine/program.h"
+#include "polyaxis/machine/simulate.h"
+#include "polyaxis/planner/plan.h"
+
+namespace polyaxis::report {
+
+struct PlanMeta {
+  std::string part;
+  std::string machine;   // machine name
+  std::string process;   // process name
+  std::string gcode;     // the G-code file name
+};
+
+// report.json: the metrics of SPEC §3 (schema in docs/plan.md). SIM is the simulation of the
+// written G-code (build time and path length come from it).
+std::string report_json(const planner::Plan& plan, const machine::SimulationReport& sim, const PlanMeta& meta);
+
+// plan.json: everything else — placement, layers (plane, thickness, area, unsupported area) and
+// the program points [x, y, z, i, j, k, feed_mm_s, on, layer, region] in the part frame.
+std::string plan_json(const planner::Plan& plan, const PlanMeta& meta);
+
+// The program points of a plan.json (for `polyaxis simulate --plan`). kInvalidInput on anything
+// malformed.
+core::Result<std::vector<machine::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source);
+
+}  // namespace polyaxis::report

@@ -1,0 +1,183 @@
+#include "polyaxis/planner/plan.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "polyaxis/geom2d/clip.h"
+#include "polyaxis/mesh/properties.h"
+
+namespace polyaxis::planner {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMaxSupportAngleDeg = 89.0;  // tan() of the grown angle stays finite
+
+double angle_deg(Vec3 a, Vec3 b) {
+  const double c = core::dot(core::normalized(a), core::normalized(b));
+  return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
+}
+
+double area_of(const std::vector<geom2d::Polygon>& polys) {
+  double a = 0.0;
+  for (const auto& p : polys) a += geom2d::area_mm2(p);
+  return a;
+}
+
+std::vector<geom2d::Ring> rings_of(const std::vector<geom2d::Polygon>& polys) {
+  std::vector<geom2d::Ring> rings;
+  for (const auto& p : polys) {
+    rings.push_back(p.outer);
+    rings.insert(rings.end(), p.holes.begin(), p.holes.end());
+  }
+  return rings;
+}
+
+// The unsupported area of layer K over layer K−1 (see PlanOptions' comment in plan.h).
+double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer, const toolpath::LayerToolpaths& paths,
+                        double alpha_deg, double bead_mm) {
+  const double t = layer.height_mm - below.height_mm;  // centre to centre: what the new layer hangs over
+  const double base_grow = t * std::tan(alpha_deg * kPi / 180.0);
+  const auto overhang = geom2d::difference_rings(rings_of(layer.polygons), rings_of(geom2d::offset(below.polygons, base_grow)));
+  double total = 0.0;
+  for (const geom2d::Polygon& piece : overhang) {
+    const double piece_area = geom2d::area_mm2(piece);
+    if (piece_area <= 0.0) continue;
+    // Largest torch tilt of the outer-contour points over this piece (within a bead of its box).
+    std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
+    for (const auto& q : piece.outer) x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
+    const std::int64_t margin = geom2d::to_units(bead_mm);
+    double tilt = 0.0;
+    for (const toolpath::Path& path : paths.paths) {
+      if (!path.outer_contour) continue;
+      for (const toolpath::PathPoint& p : path.points) {
+        const Vec3 rel = p.position_mm - layer.frame.origin;
+        const std::int64_t u = geom2d::to_units(core::dot(rel, layer.frame.u)), v = geom2d::to_units(core::dot(rel, layer.frame.v));
+        if (u < x0 - margin || u > x1 + margin || v < y0 - margin || v > y1 + margin) continue;
+        tilt = std::max(tilt, angle_deg(p.tool_axis, layer.frame.d));
+      }
+    }
+    if (tilt <= 0.0) {
+      total += piece_area;
+      continue;
+    }
+    const double grown = std::min(alpha_deg + tilt, kMaxSupportAngleDeg);
+    const auto still = geom2d::difference_rings(rings_of({piece}), rings_of(geom2d::offset(below.polygons, t * std::tan(grown * kPi / 180.0))));
+    total += area_of(still);
+  }
+  return total;
+}
+
+}  // namespace
+
+core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
+                             const PlanOptions& options) {
+  Plan plan;
+  if (!core::is_finite(options.direction) || core::norm(options.direction) < 1e-12) {
+    return core::make_error(core::ErrorCode::kUsage, "--dir: the build direction must be a finite non-zero vector");
+  }
+  const Vec3 d = core::normalized(options.direction);
+  // Placement: base on the table (height 0 along d), footprint centred on the rotary axis.
+  mesh::Mesh placed = part.mesh;
+  double lowest = INFINITY;
+  core::Box3 box;
+  for (const Vec3& v : placed.vertices) lowest = std::min(lowest, core::dot(v, d)), box.add(v);
+  Vec3 centre = (box.min + box.max) * 0.5;
+  centre = centre - d * core::dot(centre, d);  // the centre's part across d
+  plan.placement_mm = Vec3{} - centre - d * lowest;
+  for (Vec3& v : placed.vertices) v = v + plan.placement_mm;
+
+  slicing::SliceOptions slice;
+  slice.direction = d;
+  slice.layer_mm = process.layer_mm;
+  slice.threads = options.threads;
+  auto layers = slicing::slice(placed, slice, &part.topology);
+  if (!layers) return layers.error();
+  plan.layers = std::move(layers.value());
+  if (plan.layers.layers.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: the part has no layers");
+
+  toolpath::ToolpathOptions tp;
+  tp.bead_width_mm = process.bead_width_mm;
+  tp.perimeters = options.perimeters;
+  tp.self_supporting_deg = process.self_supporting_deg;
+  tp.tilt_on_overhang = options.tilt_on_overhang && motion::has_rotary_axes(machine.kind);
+  tp.threads = options.threads;
+  auto paths = toolpath::make_toolpaths(placed, plan.layers, tp);
+  if (!paths) return paths.error();
+  plan.toolpaths = std::move(paths.value());
+
+  // Program: approach from above, the layer's paths in order, retract along the tool axis.
+  const double deposit_feed = process.deposit_feed_mm_s, travel_feed = process.travel_feed_mm_s;
+  auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
+    machine::ProgramPoint p;
+    p.tip_part_mm = tip;
+    p.tool_axis_part = axis;
+    p.feed_mm_s = on ? deposit_feed : travel_feed;
+    p.process_on = on;
+    p.layer = layer;
+    p.region = 0;
+    p.comment_if_new_block = std::move(comment);
+    plan.program.push_back(std::move(p));
+  };
+  for (const toolpath::LayerToolpaths& lt : plan.toolpaths) {
+    plan.deposit_length_mm += lt.deposit_length_mm;
+    plan.travel_length_mm += lt.travel_length_mm;
+    plan.thin_regions += lt.thin.size();
+    for (const auto& thin : lt.thin) plan.thin_area_mm2 += thin.area_mm2;
+    bool first_in_layer = true;
+    for (const toolpath::Path& path : lt.paths) {
+      if (path.points.empty()) continue;
+      const char* kind = path.kind == toolpath::PathKind::kPerimeter ? "perimeter" : (path.kind == toolpath::PathKind::kFill ? "fill" : "travel");
+      // The G-code writer prefixes "layer N region R" to a new block's comment.
+      const std::string comment = path.kind == toolpath::PathKind::kPerimeter ? fmt::format("perimeter {}", path.perimeter_index) : kind;
+      if (first_in_layer) {
+        const toolpath::PathPoint& p0 = path.points.front();
+        push(p0.position_mm + core::normalized(p0.tool_axis) * options.retract_mm, p0.tool_axis, false, lt.layer,
+             "approach");
+        first_in_layer = false;
+      }
+      for (std::size_t i = 0; i < path.points.size(); ++i) {
+        const toolpath::PathPoint& p = path.points[i];
+        push(p.position_mm, p.tool_axis, p.deposit, lt.layer, i == 0 ? comment : std::string());
+      }
+    }
+    if (!plan.program.empty() && !first_in_layer) {
+      const machine::ProgramPoint last = plan.program.back();
+      push(last.tip_part_mm + core::normalized(last.tool_axis_part) * options.retract_mm, last.tool_axis_part, false, lt.layer,
+           "retract");
+    }
+  }
+  if (plan.program.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: every layer is thinner than a bead");
+  for (std::size_t i = 0; i < plan.program.size(); ++i) {
+    const machine::ProgramPoint& p = plan.program[i];
+    if (p.process_on) plan.max_tilt_deg = std::max(plan.max_tilt_deg, angle_deg(p.tool_axis_part, d));
+    if (i > 0 && angle_deg(p.tool_axis_part, plan.program[i - 1].tool_axis_part) > kReorientationDeg) ++plan.reorientations;
+  }
+
+  // Support, layer by layer (layer 0 rests on the table).
+  const auto& ls = plan.layers.layers;
+  plan.layer_reports.resize(ls.size());
+  for (std::size_t k = 0; k < ls.size(); ++k) {
+    LayerReport& r = plan.layer_reports[k];
+    r.index = ls[k].index;
+    r.height_mm = ls[k].height_mm;
+    r.thickness_mm = ls[k].thickness_mm();
+    r.area_mm2 = ls[k].area_mm2;
+    const toolpath::LayerToolpaths& lt = plan.toolpaths[k];
+    r.paths = static_cast<std::uint32_t>(lt.paths.size());
+    for (const auto& path : lt.paths) {
+      for (const auto& p : path.points) {
+        if (p.deposit) r.max_tilt_deg = std::max(r.max_tilt_deg, angle_deg(p.tool_axis, d));
+      }
+    }
+    if (k > 0) {
+      r.unsupported_area_mm2 = unsupported_area(ls[k - 1], ls[k], lt, process.self_supporting_deg, process.bead_width_mm);
+      if (r.unsupported_area_mm2 < kUnsupportedNoiseMm2) r.unsupported_area_mm2 = 0.0;
+    }
+    plan.unsupported_area_mm2 += r.unsupported_area_mm2;
+  }
+  return plan;
+}
+
+}  // namespace polyaxis::planner

@@ -1,0 +1,439 @@
+// Per-layer toolpaths (SPEC §2.5): perimeters as inward offsets, zigzag or contour-parallel fill,
+// thin features reported, greedy nearest-start ordering with golden-angle seams, and tool axes
+// after Kapil et al. Eq. 1-3 (overhang.cpp).
+#include "polyaxis/toolpath/toolpath.h"
+
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <optional>
+
+#include "overhang.h"
+#include "polyaxis/core/progress.h"
+#include "polyaxis/geom2d/clip.h"
+#include "zigzag.h"
+
+namespace polyaxis::toolpath {
+namespace {
+
+using core::ErrorCode;
+using core::make_error;
+using geom2d::Int128;
+using geom2d::Point;
+using geom2d::Polygon;
+using geom2d::Ring;
+
+constexpr double kPi = 3.14159265358979323846;
+// Seams turn by the golden angle from layer to layer: no two layers in a long run share a direction.
+const double kGoldenAngleRad = kPi * (3.0 - std::sqrt(5.0));
+// Two layers share a build direction when their unit normals differ by less than this (unitless).
+constexpr double kSameDirection = 1e-9;
+// Bound on perimeters per island: more than this is a units mistake, not a plan.
+constexpr int kMaxPerimeters = 10'000;
+
+// A path before it is placed in the layer's order: points in the layer's (u, v) units.
+struct Candidate {
+  PathKind kind = PathKind::kPerimeter;
+  std::uint32_t perimeter_index = 0;
+  bool outer_contour = false;
+  bool closed = true;
+  bool fixed_start = false;  // a perimeter whose seam is already chosen
+  Ring points;
+};
+
+// Candidates of one island in the groups they run in: perimeter 0, 1, ..., then fill.
+using Island = std::vector<std::vector<Candidate>>;
+
+Int128 dist2(Point a, Point b) {
+  const Int128 dx = a.x - b.x, dy = a.y - b.y;
+  return dx * dx + dy * dy;
+}
+
+std::size_t nearest_vertex(const Ring& ring, Point target) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < ring.size(); ++i) {
+    if (dist2(ring[i], target) < dist2(ring[best], target)) best = i;
+  }
+  return best;
+}
+
+std::vector<Ring> rings_of(const std::vector<Polygon>& polygons) {
+  std::vector<Ring> rings;
+  for (const Polygon& p : polygons) {
+    rings.push_back(p.outer);
+    for (const Ring& h : p.holes) rings.push_back(h);
+  }
+  return rings;
+}
+
+// Area-weighted centroid (mm) and area (mm²) of POLYGONS in the layer's (u, v) frame.
+struct Centroid {
+  double x = 0.0, y = 0.0, area = 0.0;
+};
+
+Centroid centroid_of(const std::vector<Polygon>& polygons) {
+  double sx = 0.0, sy = 0.0, a2 = 0.0;
+  for (const Ring& r : rings_of(polygons)) {
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const double x0 = geom2d::to_mm(r[i].x), y0 = geom2d::to_mm(r[i].y);
+      const double x1 = geom2d::to_mm(r[(i + 1) % r.size()].x), y1 = geom2d::to_mm(r[(i + 1) % r.size()].y);
+      const double c = x0 * y1 - x1 * y0;
+      a2 += c;
+      sx += (x0 + x1) * c;
+      sy += (y0 + y1) * c;
+    }
+  }
+  Centroid out;
+  out.area = a2 / 2.0;
+  if (a2 != 0.0) {
+    out.x = sx / (3.0 * a2);
+    out.y = sy / (3.0 * a2);
+  } else if (!polygons.empty() && !polygons.front().outer.empty()) {
+    out.x = geom2d::to_mm(polygons.front().outer.front().x);
+    out.y = geom2d::to_mm(polygons.front().outer.front().y);
+  }
+  return out;
+}
+
+// The point seams are drawn towards on layer K: outside the layer's bounding box, in the
+// direction k·(golden angle) from the centroid.
+Point seam_target(const slicing::Layer& layer) {
+  const Centroid c = centroid_of(layer.polygons);
+  std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = std::numeric_limits<std::int64_t>::min(), y1 = x1;
+  for (const Polygon& p : layer.polygons) {
+    for (const Point& q : p.outer) {
+      x0 = std::min(x0, q.x);
+      y0 = std::min(y0, q.y);
+      x1 = std::max(x1, q.x);
+      y1 = std::max(y1, q.y);
+    }
+  }
+  const double reach_mm = std::hypot(geom2d::to_mm(x1 - x0), geom2d::to_mm(y1 - y0)) + 1.0;
+  const double a = std::fmod(static_cast<double>(layer.index) * kGoldenAngleRad, 2.0 * kPi);
+  return {geom2d::to_units(c.x + reach_mm * std::cos(a)), geom2d::to_units(c.y + reach_mm * std::sin(a))};
+}
+
+Ring rotated_to(const Ring& ring, std::size_t start) {
+  Ring out(ring.begin() + static_cast<std::ptrdiff_t>(start), ring.end());
+  out.insert(out.end(), ring.begin(), ring.begin() + static_cast<std::ptrdiff_t>(start));
+  return out;
+}
+
+// Closed candidates, one per ring of OFFSET.
+void add_rings(const std::vector<Polygon>& offset, PathKind kind, std::uint32_t index, bool outermost, bool fixed,
+               std::vector<Candidate>& group) {
+  for (const Polygon& p : offset) {
+    if (p.outer.size() >= 3) group.push_back({kind, index, outermost, true, fixed, p.outer});
+    for (const Ring& h : p.holes) {
+      if (h.size() >= 3) group.push_back({kind, index, false, true, fixed, h});
+    }
+  }
+}
+
+// How far the start of C would be from CUR, given the freedom C has (squared units).
+Int128 start_distance(const Candidate& c, Point cur) {
+  if (c.closed && !c.fixed_start) return dist2(c.points[nearest_vertex(c.points, cur)], cur);
+  if (c.closed) return dist2(c.points.front(), cur);
+  return std::min(dist2(c.points.front(), cur), dist2(c.points.back(), cur));
+}
+
+// Orients C to start as near to CUR as its freedom allows.
+void start_near(Candidate& c, Point cur) {
+  if (c.closed && !c.fixed_start) {
+    c.points = rotated_to(c.points, nearest_vertex(c.points, cur));
+  } else if (!c.closed && dist2(c.points.back(), cur) < dist2(c.points.front(), cur)) {
+    std::reverse(c.points.begin(), c.points.end());
+  }
+}
+
+class LayerPlanner {
+ public:
+  LayerPlanner(const mesh::Mesh& mesh, const ToolpathOptions& o, const slicing::Layer& layer, const detail::FacetLocator* facets)
+      : mesh_(mesh), o_(o), layer_(layer), facets_(facets) {}
+
+  LayerToolpaths run() {
+    LayerToolpaths out;
+    out.layer = layer_.index;
+    if (layer_.polygons.empty()) return out;
+    const Point target = seam_target(layer_);
+    std::vector<Island> islands;
+    for (const Polygon& p : layer_.polygons) {
+      Island island = plan_island(p, out.thin);
+      for (auto& group : island) {
+        for (Candidate& c : group) {
+          if (c.fixed_start) c.points = rotated_to(c.points, nearest_vertex(c.points, target));
+        }
+      }
+      std::erase_if(island, [](const std::vector<Candidate>& g) { return g.empty(); });
+      if (!island.empty()) islands.push_back(std::move(island));
+    }
+    emit(order(std::move(islands), target), out);
+    return out;
+  }
+
+ private:
+  double spacing_mm() const { return o_.bead_width_mm * (1.0 - o_.overlap); }
+
+  Vec3 world(Point p) const { return layer_.frame.to_world(geom2d::to_mm(p.x), geom2d::to_mm(p.y)); }
+
+  Island plan_island(const Polygon& polygon, std::vector<ThinRegion>& thin) const {
+    const double w = o_.bead_width_mm, s = spacing_mm();
+    const std::vector<Polygon> island{polygon};
+    const std::vector<Polygon> first = geom2d::offset(island, -w / 2.0);
+    report_thin(polygon, first, thin);
+    Island groups;
+    const auto n = static_cast<std::uint32_t>(o_.perimeters);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const std::vector<Polygon> ring = k == 0 ? first : geom2d::offset(island, -(w / 2.0 + k * s));
+      if (ring.empty()) break;
+      groups.emplace_back();
+      add_rings(ring, PathKind::kPerimeter, k, k == 0, true, groups.back());
+    }
+    if (o_.fill == ToolpathOptions::kZigzag) {
+      // The innermost perimeter's bead edge: lines s/2 inside it sit a full spacing from it.
+      const std::vector<Polygon> region = geom2d::offset(island, -(w / 2.0 + n * s - s / 2.0));
+      const double angle = (o_.fill_angle_deg + (layer_.index % 2 == 0 ? 0.0 : 90.0)) * kPi / 180.0;
+      std::vector<Candidate> fill;
+      for (const Polygon& piece : region) {
+        for (Ring& line : detail::zigzag(piece, angle, geom2d::to_units(s))) {
+          fill.push_back({PathKind::kFill, 0, false, false, false, std::move(line)});
+        }
+      }
+      groups.push_back(std::move(fill));
+    } else if (o_.fill == ToolpathOptions::kContour) {
+      for (std::uint32_t j = 0;; ++j) {
+        const std::vector<Polygon> ring = geom2d::offset(island, -(w / 2.0 + (n + j) * s));
+        if (ring.empty()) break;
+        groups.emplace_back();
+        add_rings(ring, PathKind::kFill, n + j, false, false, groups.back());
+      }
+    }
+    return groups;
+  }
+
+  ThinRegion thin_region(const Polygon& piece, std::string what) const {
+    const Centroid c = centroid_of({piece});
+    return {layer_.index, layer_.frame.to_world(c.x, c.y), c.area, std::move(what)};
+  }
+
+  // The parts of POLYGON that the first perimeter's bead (offset FIRST grown back by half a bead)
+  // does not cover.
+  void report_thin(const Polygon& polygon, const std::vector<Polygon>& first, std::vector<ThinRegion>& thin) const {
+    const double w = o_.bead_width_mm;
+    if (first.empty()) {
+      thin.push_back(thin_region(polygon, fmt::format("island narrower than a bead ({} mm): no perimeter fits", w)));
+      return;
+    }
+    const auto covered = geom2d::offset(first, w / 2.0 + kThinSlackMm);
+    for (const Polygon& piece : geom2d::difference_rings(rings_of({polygon}), rings_of(covered))) {
+      if (geom2d::area_mm2(piece) >= kThinMinAreaBeads2 * w * w) {
+        thin.push_back(thin_region(piece, fmt::format("feature narrower than a bead ({} mm): not deposited", w)));
+      }
+    }
+  }
+
+  // Islands in greedy order of their nearest entry, and within each its groups in order, each
+  // group greedily by the nearest start; from the seam target.
+  std::vector<Candidate> order(std::vector<Island> islands, Point start) const {
+    std::vector<Candidate> out;
+    Point cur = start;
+    std::vector<char> done(islands.size(), 0);
+    for (std::size_t round = 0; round < islands.size(); ++round) {
+      std::size_t best = islands.size();
+      Int128 best_d = 0;
+      for (std::size_t i = 0; i < islands.size(); ++i) {
+        if (done[i]) continue;
+        for (const Candidate& c : islands[i].front()) {
+          const Int128 d = start_distance(c, cur);
+          if (best == islands.size() || d < best_d) {
+            best = i;
+            best_d = d;
+          }
+        }
+      }
+      done[best] = 1;
+      for (auto& group : islands[best]) {
+        std::vector<char> used(group.size(), 0);
+        for (std::size_t taken = 0; taken < group.size(); ++taken) {
+          std::size_t pick = group.size();
+          Int128 pick_d = 0;
+          for (std::size_t j = 0; j < group.size(); ++j) {
+            if (used[j]) continue;
+            const Int128 d = start_distance(group[j], cur);
+            if (pick == group.size() || d < pick_d) {
+              pick = j;
+              pick_d = d;
+            }
+          }
+          used[pick] = 1;
+          Candidate& c = group[pick];
+          start_near(c, cur);
+          cur = c.closed ? c.points.front() : c.points.back();
+          out.push_back(std::move(c));
+        }
+      }
+    }
+    return out;
+  }
+
+  // Tool axes along CANDIDATE's points (one per point, closed paths without the repeat).
+  std::vector<Vec3> axes(const Candidate& c) const {
+    const Vec3 d = layer_.frame.d;
+    std::vector<Vec3> out(c.points.size(), d);
+    if (!o_.tilt_on_overhang || !c.outer_contour || facets_ == nullptr || facets_->empty()) return out;
+    const double min_dot = -std::sin(o_.self_supporting_deg * kPi / 180.0);
+    const std::size_t n = c.points.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Point a = c.points[i], b = c.points[(i + 1) % n];
+      const double mu = 0.5 * (geom2d::to_mm(a.x) + geom2d::to_mm(b.x)), mv = 0.5 * (geom2d::to_mm(a.y) + geom2d::to_mm(b.y));
+      // Kapil's p_i, p_{i+1} are points of the part's contour: take the direction of the contour
+      // segment in the nearest facet, not the path's own step, which at the corners of an
+      // offset ring can be a 1 nm rounding jog in any direction.
+      const detail::FacetLocator::Nearest near = facets_->nearest(mu, mv);
+      const Vec3 normal = core::normalized(mesh::face_area_vector(mesh_, near.face));
+      const Vec3 tangent = layer_.frame.u * near.tu + layer_.frame.v * near.tv;
+      out[i] = detail::torch_axis(normal, tangent, d, min_dot);
+    }
+    return out;
+  }
+
+  void emit(std::vector<Candidate> ordered, LayerToolpaths& out) const {
+    for (const Candidate& c : ordered) {
+      Path path;
+      path.kind = c.kind;
+      path.layer = layer_.index;
+      path.region = o_.region;
+      path.perimeter_index = c.perimeter_index;
+      path.outer_contour = c.outer_contour;
+      const std::vector<Vec3> axis = axes(c);
+      for (std::size_t i = 0; i < c.points.size(); ++i) path.points.push_back({world(c.points[i]), axis[i], i > 0});
+      if (c.closed) path.points.push_back({world(c.points.front()), axis.front(), true});
+      for (std::size_t i = 1; i < path.points.size(); ++i) {
+        out.deposit_length_mm += core::norm(path.points[i].position_mm - path.points[i - 1].position_mm);
+      }
+      if (!out.paths.empty()) {
+        const PathPoint& from = out.paths.back().points.back();
+        const PathPoint& to = path.points.front();
+        const double length = core::norm(to.position_mm - from.position_mm);
+        if (length > 0.0) {
+          Path travel;
+          travel.kind = PathKind::kTravel;
+          travel.layer = layer_.index;
+          travel.region = o_.region;
+          travel.points = {{from.position_mm, from.tool_axis, false}, {to.position_mm, to.tool_axis, false}};
+          out.travel_length_mm += length;
+          out.paths.push_back(std::move(travel));
+        }
+      }
+      out.paths.push_back(std::move(path));
+    }
+  }
+
+  const mesh::Mesh& mesh_;
+  const ToolpathOptions& o_;
+  const slicing::Layer& layer_;
+  const detail::FacetLocator* facets_;
+};
+
+bool finite_positive(double x) { return std::isfinite(x) && x > 0.0; }
+
+}  // namespace
+
+core::Status validate(const ToolpathOptions& o) {
+  if (!finite_positive(o.bead_width_mm)) return make_error(ErrorCode::kUsage, "bead width: must be a finite number > 0");
+  if (o.perimeters < 0 || o.perimeters > kMaxPerimeters) {
+    return make_error(ErrorCode::kUsage, fmt::format("perimeters: {} is not in [0, {}]", o.perimeters, kMaxPerimeters));
+  }
+  if (o.fill != ToolpathOptions::kZigzag && o.fill != ToolpathOptions::kContour && o.fill != ToolpathOptions::kNone) {
+    return make_error(ErrorCode::kUsage, "fill: must be zigzag, contour or none");
+  }
+  if (!std::isfinite(o.fill_angle_deg)) return make_error(ErrorCode::kUsage, "fill angle: must be a finite number");
+  if (!(o.overlap >= 0.0 && o.overlap < 1.0)) return make_error(ErrorCode::kUsage, "overlap: must be in [0, 1)");
+  if (!(o.self_supporting_deg >= 0.0 && o.self_supporting_deg < 90.0)) {
+    return make_error(ErrorCode::kUsage, "self-supporting angle: must be in [0, 90) degrees");
+  }
+  if (o.threads < 0) return make_error(ErrorCode::kUsage, "threads: must be >= 0");
+  return {};
+}
+
+core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh, const slicing::SliceResult& slices,
+                                                         const ToolpathOptions& options) {
+  if (auto s = validate(options); !s) return s.error();
+  const std::vector<slicing::Layer>& layers = slices.layers;
+  std::vector<LayerToolpaths> result(layers.size());
+  if (layers.empty()) return result;
+  const Vec3 d = layers.front().frame.d;
+  for (const slicing::Layer& l : layers) {
+    if (!(core::norm(l.frame.d - d) < kSameDirection)) {
+      return make_error(ErrorCode::kUsage, fmt::format("layer {}: its direction differs from layer {}'s; toolpaths take the layers of one slicing",
+                                                       l.index, layers.front().index));
+    }
+  }
+  std::unique_ptr<tbb::global_control> limit;
+  if (options.threads > 0) {
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
+  }
+
+  // Faces crossing each layer's plane (face_min < h <= face_max, the tie rule of section.h), by a
+  // counting sort over the layers in height order.
+  const bool tilt = options.tilt_on_overhang && !mesh.triangles.empty();
+  std::optional<slicing::SectionContext> ctx;
+  std::vector<std::uint32_t> start, bucket, slot_of_layer(layers.size());
+  if (tilt) {
+    ctx.emplace(mesh, d);
+    std::vector<std::uint32_t> by_height(layers.size());
+    std::iota(by_height.begin(), by_height.end(), 0u);
+    std::stable_sort(by_height.begin(), by_height.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return layers[a].height_mm < layers[b].height_mm; });
+    std::vector<double> heights(layers.size());
+    for (std::size_t i = 0; i < by_height.size(); ++i) {
+      heights[i] = layers[by_height[i]].height_mm;
+      slot_of_layer[by_height[i]] = static_cast<std::uint32_t>(i);
+    }
+    auto range = [&](std::uint32_t f) {
+      const auto lo = std::upper_bound(heights.begin(), heights.end(), ctx->face_min(f)) - heights.begin();
+      const auto hi = std::upper_bound(heights.begin(), heights.end(), ctx->face_max(f)) - heights.begin();
+      return std::pair<std::size_t, std::size_t>{static_cast<std::size_t>(lo), static_cast<std::size_t>(std::max(lo, hi))};
+    };
+    start.assign(layers.size() + 1, 0);
+    const auto nf = static_cast<std::uint32_t>(mesh.triangles.size());
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      const auto [lo, hi] = range(f);
+      for (std::size_t k = lo; k < hi; ++k) ++start[k + 1];
+    }
+    for (std::size_t k = 0; k < layers.size(); ++k) start[k + 1] += start[k];
+    bucket.resize(start.back());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      const auto [lo, hi] = range(f);
+      for (std::size_t k = lo; k < hi; ++k) bucket[fill[k]++] = f;
+    }
+  }
+
+  core::Progress progress("toolpaths", layers.size());
+  std::atomic<std::uint64_t> done{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layers.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      std::optional<detail::FacetLocator> facets;
+      if (tilt) {
+        const std::uint32_t k = slot_of_layer[i];
+        const std::span<const std::uint32_t> faces(bucket.data() + start[k], start[k + 1] - start[k]);
+        facets.emplace(*ctx, layers[i].height_mm, layers[i].frame, faces);
+      }
+      result[i] = LayerPlanner(mesh, options, layers[i], facets ? &*facets : nullptr).run();
+    }
+    done += r.size();
+    if (tbb::this_task_arena::current_thread_index() == 0) progress.update(done);
+  });
+  return result;
+}
+
+}  // namespace polyaxis::toolpath

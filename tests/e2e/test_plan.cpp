@@ -1,0 +1,149 @@
+// The main job end to end (issue 4): `polyaxis plan` with the defaults on every reference part;
+// LinuxCNC's rs274 accepts the G-code and reports the same axis positions; `polyaxis simulate
+// --plan` finds the tool tip within the path tolerance and no limit violation; Kapil's comparison
+// on the impeller (planar 3-axis leaves the blade tips unsupported, the tilted torch does not).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+
+#include "support/cli.h"
+
+namespace polyaxis::test {
+namespace {
+
+nlohmann::json read_json(const std::filesystem::path& p) { return nlohmann::json::parse(slurp(p)); }
+
+std::string rs274_path() {
+  for (const char* p : {"/usr/bin/rs274", "/usr/local/bin/rs274"}) {
+    if (std::filesystem::exists(p)) return p;
+  }
+  return {};
+}
+
+// The axis words of every G0/G1 block in OUR file, in order, carried forward like a controller.
+std::vector<std::array<double, 6>> our_positions(const std::string& gcode) {
+  std::vector<std::array<double, 6>> out;
+  std::array<double, 6> pos{0, 0, 0, 0, 0, 0};
+  std::istringstream in(gcode);
+  std::string line;
+  const std::string letters = "XYZABC";
+  while (std::getline(in, line)) {
+    const auto paren = line.find('(');
+    if (paren != std::string::npos) line = line.substr(0, paren);
+    if (!std::regex_search(line, std::regex("\\bG[01]\\b|^G[01] |^G0|^G1"))) continue;
+    bool moved = false;
+    for (std::size_t i = 0; i < 6; ++i) {
+      const auto at = line.find(letters[i]);
+      if (at == std::string::npos) continue;
+      pos[i] = std::stod(line.substr(at + 1));
+      moved = true;
+    }
+    if (moved) out.push_back(pos);
+  }
+  return out;
+}
+
+// rs274's canonical STRAIGHT_FEED / STRAIGHT_TRAVERSE positions (x y z a b c).
+std::vector<std::array<double, 6>> rs274_positions(const std::string& canon) {
+  std::vector<std::array<double, 6>> out;
+  const std::regex call("(STRAIGHT_FEED|STRAIGHT_TRAVERSE)\\(([^)]*)\\)");
+  for (auto it = std::sregex_iterator(canon.begin(), canon.end(), call); it != std::sregex_iterator(); ++it) {
+    std::stringstream s((*it)[2].str());
+    std::array<double, 6> p{};
+    std::string item;
+    for (std::size_t i = 0; i < 6 && std::getline(s, item, ','); ++i) p[i] = std::stod(item);
+    out.push_back(p);
+  }
+  return out;
+}
+
+class PlanPart : public testing::TestWithParam<const char*> {};
+
+TEST_P(PlanPart, DefaultsGiveCodeAControllerAcceptsAndTheSimulationConfirms) {
+  TempDir dir;
+  const std::string name = GetParam();
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/" + name + ".stl";
+  const auto plan = run_cli("plan '" + part + "' -o '" + dir.path().string() + "'");
+  ASSERT_EQ(plan.exit_code, 0) << plan.err;
+  const auto ngc = dir / (name + ".ngc");
+  ASSERT_TRUE(std::filesystem::exists(ngc));
+  const auto report = read_json(dir / "report.json");
+  for (const char* key : {"layers", "regions", "path_length_mm", "build_time_s", "reorientations", "support_free", "unsupported_area_mm2",
+                          "max_tilt_deg"}) {
+    EXPECT_TRUE(report.contains(key)) << key;
+  }
+  EXPECT_GT(report["layers"].get<int>(), 0);
+  EXPECT_GT(report["build_time_s"].get<double>(), 0.0);
+  const std::string gcode = slurp(ngc);
+  EXPECT_EQ(gcode.find("nan"), std::string::npos);
+  EXPECT_EQ(gcode.find("inf"), std::string::npos);
+
+  const auto sim = run_cli("simulate '" + ngc.string() + "' --plan '" + (dir / "plan.json").string() + "' --json");
+  ASSERT_EQ(sim.exit_code, 0) << sim.err << sim.out;
+  const auto s = nlohmann::json::parse(sim.out);
+  EXPECT_EQ(s["limit_violations"].get<int>(), 0);
+  // The path tolerance (0.01 mm) plus the rounding of the written words (4 decimals).
+  EXPECT_LE(s["max_tip_deviation_mm"].get<double>(), 0.01 + 5e-4) << name;
+
+  const std::string rs274 = rs274_path();
+  if (rs274.empty()) GTEST_SKIP() << "rs274 (linuxcnc-uspace) is not installed";
+  const auto canon = dir / "canon.txt";
+  const int status = std::system(("'" + rs274 + "' -g '" + ngc.string() + "' '" + canon.string() + "' >/dev/null 2>&1 </dev/null").c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rs274 refused " << ngc;
+  const auto theirs = rs274_positions(slurp(canon));
+  const auto ours = our_positions(gcode);
+  ASSERT_FALSE(theirs.empty());
+  ASSERT_EQ(theirs.size(), ours.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < ours.size(); ++i) {
+    for (std::size_t k = 0; k < 6; ++k) worst = std::max(worst, std::fabs(ours[i][k] - theirs[i][k]));
+  }
+  EXPECT_LE(worst, 1e-3) << "rs274 reads different positions";  // 1 µm / 0.001°
+}
+
+INSTANTIATE_TEST_SUITE_P(Parts, PlanPart,
+                         testing::Values("cyl_walls5", "dome_sphere", "hinge", "impeller", "l_block", "pen_rack", "spiral", "two_branches"));
+
+TEST(PlanImpeller, TiltedTorchMakesTheBladeTipsSupportFree) {  // Kapil's comparison
+  TempDir dir;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/impeller.stl";
+  const auto planar = run_cli("plan '" + part + "' --no-tilt -o '" + (dir / "planar").string() + "'");
+  ASSERT_EQ(planar.exit_code, 0) << planar.err;
+  const auto flat = read_json(dir / "planar" / "report.json");
+  EXPECT_FALSE(flat["support_free"].get<bool>());
+  EXPECT_GT(flat["unsupported_area_mm2"].get<double>(), 0.0);
+  EXPECT_EQ(flat["max_tilt_deg"].get<double>(), 0.0);
+  const auto tilted = run_cli("plan '" + part + "' -o '" + (dir / "tilted").string() + "'");
+  ASSERT_EQ(tilted.exit_code, 0) << tilted.err;
+  const auto tilt = read_json(dir / "tilted" / "report.json");
+  EXPECT_TRUE(tilt["support_free"].get<bool>());
+  EXPECT_GT(tilt["max_tilt_deg"].get<double>(), 0.0);
+}
+
+TEST(PlanErrors, BadConfigurationExitsTwoNamingTheKey) {
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
+  auto r = run_cli("plan '" + part + "' --set process.bead_widht_mm=2 -o /tmp/never");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bead_widht_mm"), std::string::npos) << r.err;
+  r = run_cli("plan '" + part + "' --set process.layer_min_mm=3 -o /tmp/never");
+  EXPECT_EQ(r.exit_code, 2);
+  r = run_cli("plan '" + part + "' --set machine.kinematics=\\\"xyzzy\\\" -o /tmp/never");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(std::filesystem::exists("/tmp/never/l_block.ngc"));
+}
+
+TEST(PlanErrors, MachineTooSmallExitsFiveAndWritesNothing) {
+  TempDir dir;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
+  const auto r = run_cli("plan '" + part + "' --set machine.limits.x.max=10 -o '" + dir.path().string() + "'");
+  EXPECT_EQ(r.exit_code, 5) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "l_block.ngc"));
+}
+
+}  // namespace
+}  // namespace polyaxis::test

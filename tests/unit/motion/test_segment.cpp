@@ -1,0 +1,85 @@
+// Subdivision keeps the controller's tip near the planned straight segment.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "polyaxis/motion/segment.h"
+
+namespace polyaxis::motion {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+MachineConfig machine(Kinematics kind) {
+  MachineConfig m;
+  m.name = "seg";
+  m.kind = kind;
+  m.x_mm = m.y_mm = m.z_mm = {-1e4, 1e4};
+  m.tilt_deg = {-120.0, 120.0};
+  m.c_continuous = true;
+  m.pivot.z_offset_mm = -80.0;
+  return m;
+}
+
+MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
+  return {a.x_mm + (b.x_mm - a.x_mm) * u, a.y_mm + (b.y_mm - a.y_mm) * u, a.z_mm + (b.z_mm - a.z_mm) * u,
+          a.a_or_b_deg + (b.a_or_b_deg - a.a_or_b_deg) * u, a.c_deg + (b.c_deg - a.c_deg) * u};
+}
+
+Vec3 tilted(double tilt_deg, double az_deg) {
+  return {std::sin(tilt_deg * kDeg) * std::cos(az_deg * kDeg), std::sin(tilt_deg * kDeg) * std::sin(az_deg * kDeg),
+          std::cos(tilt_deg * kDeg)};
+}
+
+// Checks the midpoint (and quarter points) of every piece against the segment; returns the pieces.
+std::size_t check(const MachineConfig& m, Vec3 p0, Vec3 t0, Vec3 p1, Vec3 t1, double chordal) {
+  auto start = inverse(m, p0, t0, nullptr);
+  EXPECT_TRUE(start.ok());
+  auto poses = subdivide(m, p0, t0, p1, t1, start.value(), chordal);
+  EXPECT_TRUE(poses.ok()) << poses.error().message;
+  if (!poses.ok()) return 0;
+  MachinePose prev = start.value();
+  for (const MachinePose& p : poses.value()) {
+    for (const double u : {0.1, 0.5, 0.9}) {
+      EXPECT_LE(distance_to_segment(forward(m, lerp(prev, p, u)).tip_part_mm, p0, p1), chordal);
+    }
+    EXPECT_LE(std::abs(p.c_deg - prev.c_deg), kMaxRotaryStepDeg + 1e-9);
+    prev = p;
+  }
+  const MachineToolPose end = forward(m, poses.value().back());
+  EXPECT_LT(norm(end.tip_part_mm - p1), 1e-9);
+  EXPECT_LT(norm(end.tool_axis_part - normalized(t1)), 1e-9);
+  return poses.value().size();
+}
+
+TEST(Subdivide, RotaryMoveFarFromThePivot) {
+  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC}) {
+    const MachineConfig m = machine(kind);
+    // 100 mm from the C axis, the axis swings from azimuth 0° to 40° at 30° tilt.
+    const std::size_t n = check(m, {100.0, 0.0, 20.0}, tilted(30.0, 0.0), {95.0, 30.0, 21.0}, tilted(30.0, 40.0), 0.01);
+    EXPECT_GT(n, 8u);
+  }
+}
+
+TEST(Subdivide, ReorientationInPlaceKeepsTheTipStill) {
+  const MachineConfig m = machine(Kinematics::kTableTiltA_RotaryC);
+  const std::size_t n = check(m, {60.0, -40.0, 15.0}, tilted(0.0, 0.0), {60.0, -40.0, 15.0}, tilted(45.0, 120.0), 0.005);
+  EXPECT_GT(n, 9u);  // at least 45°/5° pieces
+}
+
+TEST(Subdivide, PureTranslationIsOneBlock) {
+  const MachineConfig m = machine(Kinematics::kTableTiltB_RotaryC);
+  EXPECT_EQ(check(m, {0.0, 0.0, 0.0}, tilted(20.0, 10.0), {50.0, 20.0, 5.0}, tilted(20.0, 10.0), 0.001), 1u);
+}
+
+TEST(Subdivide, ReversedAxisIsInfeasible) {
+  const MachineConfig m = machine(Kinematics::kTableTiltA_RotaryC);
+  const MachinePose start{};
+  auto r = subdivide(m, {0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, {1.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, start, 0.01);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, core::ErrorCode::kInfeasible);
+}
+
+}  // namespace
+}  // namespace polyaxis::motion

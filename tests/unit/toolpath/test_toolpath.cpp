@@ -1,0 +1,484 @@
+// Toolpath properties: perimeters at their offsets, fill inside and spaced by a bead, thin
+// features reported, seams spread, tool axes unit and tilted only over overhangs (Kapil Eq. 1-3),
+// output independent of the thread count.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "polyaxis/io/read_part.h"
+#include "polyaxis/mesh/repair.h"
+#include "polyaxis/slicing/slice.h"
+#include "polyaxis/toolpath/toolpath.h"
+#include "support/meshes.h"
+
+namespace polyaxis::toolpath {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Coordinates pass through the 1 nm grid (and, for the fill, one rotation rounded to it): a few
+// nm of slack on lengths, and the matching slack on areas of rings tens of mm long.
+constexpr double kLengthTol = 1e-5;
+constexpr double kAreaTol = 1e-3;
+
+mesh::Mesh repaired(io::RawMesh raw) {
+  mesh::RepairOptions o;
+  o.check_self_intersections = false;
+  auto r = mesh::repair(std::move(raw), o);
+  EXPECT_TRUE(r.ok());
+  return r.value().mesh;
+}
+
+// A frustum around Z: an N-gon of radius R0 at z = 0 widening to R1 at z = H.
+io::RawMesh frustum(double r0, double r1, double h, std::uint32_t n) {
+  io::RawMesh m;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double a = 2.0 * kPi * i / n;
+    m.points.push_back({r0 * std::cos(a), r0 * std::sin(a), 0.0});
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double a = 2.0 * kPi * i / n;
+    m.points.push_back({r1 * std::cos(a), r1 * std::sin(a), h});
+  }
+  m.points.push_back({0, 0, 0});
+  m.points.push_back({0, 0, h});
+  const std::uint32_t cb = 2 * n, ct = 2 * n + 1;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t j = (i + 1) % n;
+    m.triangles.push_back({cb, j, i});
+    m.triangles.push_back({ct, n + i, n + j});
+    m.triangles.push_back({i, j, n + j});
+    m.triangles.push_back({i, n + j, n + i});
+  }
+  return m;
+}
+
+slicing::SliceResult sliced(const mesh::Mesh& m, double layer_mm) {
+  slicing::SliceOptions o;
+  o.layer_mm = layer_mm;
+  auto r = slicing::slice(m, o);
+  EXPECT_TRUE(r.ok());
+  return r.value();
+}
+
+std::vector<LayerToolpaths> plan(const mesh::Mesh& m, const slicing::SliceResult& s, const ToolpathOptions& o) {
+  auto r = make_toolpaths(m, s, o);
+  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+  return r.ok() ? r.value() : std::vector<LayerToolpaths>{};
+}
+
+std::vector<const Path*> of_kind(const LayerToolpaths& l, PathKind kind) {
+  std::vector<const Path*> out;
+  for (const Path& p : l.paths) {
+    if (p.kind == kind) out.push_back(&p);
+  }
+  return out;
+}
+
+// Shoelace area of a closed path's XY projection (the paths repeat their first point).
+double xy_area(const Path& p) {
+  double a2 = 0.0;
+  for (std::size_t i = 0; i + 1 < p.points.size(); ++i) {
+    const Vec3 a = p.points[i].position_mm, b = p.points[i + 1].position_mm;
+    a2 += a.x * b.y - b.x * a.y;
+  }
+  return a2 / 2.0;
+}
+
+double tilt_rad(const PathPoint& q, Vec3 d) { return std::acos(std::clamp(core::dot(q.tool_axis, d), -1.0, 1.0)); }
+
+void expect_unit_axes(const std::vector<LayerToolpaths>& layers) {
+  for (const auto& l : layers) {
+    for (const Path& p : l.paths) {
+      for (const PathPoint& q : p.points) ASSERT_NEAR(core::norm(q.tool_axis), 1.0, 1e-12) << "layer " << l.layer;
+    }
+  }
+}
+
+bool same(const std::vector<LayerToolpaths>& a, const std::vector<LayerToolpaths>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto &x = a[i], &y = b[i];
+    if (x.layer != y.layer || x.paths.size() != y.paths.size() || x.thin.size() != y.thin.size() ||
+        x.deposit_length_mm != y.deposit_length_mm || x.travel_length_mm != y.travel_length_mm) {
+      return false;
+    }
+    for (std::size_t j = 0; j < x.paths.size(); ++j) {
+      const Path &p = x.paths[j], &q = y.paths[j];
+      if (p.kind != q.kind || p.perimeter_index != q.perimeter_index || p.outer_contour != q.outer_contour ||
+          p.points.size() != q.points.size()) {
+        return false;
+      }
+      for (std::size_t k = 0; k < p.points.size(); ++k) {
+        if (!(p.points[k].position_mm == q.points[k].position_mm) || !(p.points[k].tool_axis == q.points[k].tool_axis) ||
+            p.points[k].deposit != q.points[k].deposit) {
+          return false;
+        }
+      }
+    }
+    for (std::size_t j = 0; j < x.thin.size(); ++j) {
+      if (!(x.thin[j].where_mm == y.thin[j].where_mm) || x.thin[j].area_mm2 != y.thin[j].area_mm2) return false;
+    }
+  }
+  return true;
+}
+
+TEST(Toolpath, BoxPerimetersAtTheirOffsets) {
+  const mesh::Mesh box = repaired(test::box({0, 0, 0}, {40, 30, 10}));
+  const auto layers = plan(box, sliced(box, 1.0), ToolpathOptions{});
+  ASSERT_EQ(layers.size(), 10u);
+  for (const auto& l : layers) {
+    EXPECT_TRUE(l.thin.empty());
+    const auto perimeters = of_kind(l, PathKind::kPerimeter);
+    ASSERT_EQ(perimeters.size(), 2u) << "layer " << l.layer;
+    for (const Path* p : perimeters) {
+      EXPECT_EQ(p->points.front().position_mm, p->points.back().position_mm);
+      EXPECT_FALSE(p->points.front().deposit);
+      EXPECT_TRUE(p->points.back().deposit);
+      const double off = 1.0 + 2.0 * p->perimeter_index;  // half a bead, then a bead each
+      EXPECT_NEAR(xy_area(*p), (40 - 2 * off) * (30 - 2 * off), kAreaTol) << "layer " << l.layer;
+      EXPECT_EQ(p->outer_contour, p->perimeter_index == 0);
+      for (const PathPoint& q : p->points) EXPECT_NEAR(q.position_mm.z, l.layer + 0.5, 1e-9);
+    }
+    // Execution order: outermost perimeter, inner perimeter, fill; travels between.
+    std::vector<PathKind> kinds;
+    for (const Path& p : l.paths) kinds.push_back(p.kind);
+    ASSERT_GE(kinds.size(), 5u);
+    EXPECT_EQ(l.paths[0].perimeter_index, 0u);
+    EXPECT_EQ(kinds[0], PathKind::kPerimeter);
+    EXPECT_EQ(kinds[1], PathKind::kTravel);
+    EXPECT_EQ(kinds[2], PathKind::kPerimeter);
+    EXPECT_EQ(kinds[3], PathKind::kTravel);
+    EXPECT_EQ(kinds.back(), PathKind::kFill);
+    for (const Path* t : of_kind(l, PathKind::kTravel)) {
+      for (const PathPoint& q : t->points) EXPECT_FALSE(q.deposit);
+    }
+    // Deposited: both perimeters (2·(38+28) + 2·(34+24)) and the fill.
+    EXPECT_GT(l.deposit_length_mm, 248.0);
+    EXPECT_GT(l.travel_length_mm, 0.0);
+  }
+  expect_unit_axes(layers);
+}
+
+TEST(Toolpath, BoxZigzagFillInsideTheInnermostPerimeterSpacedByABead) {
+  const mesh::Mesh box = repaired(test::box({0, 0, 0}, {40, 30, 10}));
+  const auto layers = plan(box, sliced(box, 1.0), ToolpathOptions{});
+  ASSERT_EQ(layers.size(), 10u);
+  for (const auto& l : layers) {
+    const auto fill = of_kind(l, PathKind::kFill);
+    ASSERT_EQ(fill.size(), 1u) << "a convex island fills in one zigzag, layer " << l.layer;
+    // The innermost perimeter runs at 3 mm from the sides, its bead to 4 mm: fill stays in
+    // [4, 36] × [4, 26] and its lines lie half a bead further in.
+    std::set<long> lines;  // line positions across the scan direction, in µm
+    const bool along_x = l.layer % 2 == 0;  // fill_angle 0, +90° on odd layers
+    const auto& pts = fill.front()->points;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const Vec3 p = pts[i].position_mm;
+      EXPECT_GE(p.x, 4.0 - kLengthTol);
+      EXPECT_LE(p.x, 36.0 + kLengthTol);
+      EXPECT_GE(p.y, 4.0 - kLengthTol);
+      EXPECT_LE(p.y, 26.0 + kLengthTol);
+      if (i == 0) continue;
+      const Vec3 step = p - pts[i - 1].position_mm;
+      const double along = std::fabs(along_x ? step.x : step.y), across = std::fabs(along_x ? step.y : step.x);
+      if (along > 1.0) {
+        EXPECT_LT(across, kLengthTol) << "scan lines follow the layer's fill angle, layer " << l.layer;
+        lines.insert(std::lround((along_x ? p.y : p.x) * 1000.0));
+      }
+    }
+    ASSERT_EQ(lines.size(), along_x ? 11u : 16u) << "layer " << l.layer;
+    EXPECT_EQ(*lines.begin(), 5000);
+    long previous = -1;
+    for (long y : lines) {
+      if (previous >= 0) {
+        EXPECT_EQ(y - previous, 2000) << "layer " << l.layer;
+      }
+      previous = y;
+    }
+  }
+}
+
+TEST(Toolpath, FrameWithAHolePerimetersBothBoundariesAndFillsAroundTheHole) {
+  // A 40 mm square with a 16 mm square hole, built from four overlapping bars (the slicer unions them).
+  io::RawMesh frame = test::box({0, 0, 0}, {40, 12, 3});
+  frame = test::join(frame, test::box({0, 28, 0}, {40, 40, 3}));
+  frame = test::join(frame, test::box({0, 6, 0}, {12, 34, 3}));
+  frame = test::join(frame, test::box({28, 6, 0}, {40, 34, 3}));
+  const mesh::Mesh m = repaired(frame);
+  const auto layers = plan(m, sliced(m, 1.0), ToolpathOptions{});
+  ASSERT_EQ(layers.size(), 3u);
+  for (const auto& l : layers) {
+    EXPECT_TRUE(l.thin.empty());
+    const auto perimeters = of_kind(l, PathKind::kPerimeter);
+    ASSERT_EQ(perimeters.size(), 4u);
+    for (const Path* p : perimeters) {
+      const double off = 1.0 + 2.0 * p->perimeter_index;
+      const bool outer = xy_area(*p) > 0.0;  // outer rings counter-clockwise, holes clockwise
+      EXPECT_EQ(p->outer_contour, outer && p->perimeter_index == 0);
+      EXPECT_NEAR(std::fabs(xy_area(*p)), outer ? (40 - 2 * off) * (40 - 2 * off) : (16 + 2 * off) * (16 + 2 * off), kAreaTol);
+    }
+    const auto fill = of_kind(l, PathKind::kFill);
+    ASSERT_FALSE(fill.empty());
+    for (const Path* p : fill) {
+      for (const PathPoint& q : p->points) {
+        const Vec3 a = q.position_mm;
+        EXPECT_TRUE(a.x >= 4.0 - kLengthTol && a.x <= 36.0 + kLengthTol && a.y >= 4.0 - kLengthTol && a.y <= 36.0 + kLengthTol);
+        EXPECT_FALSE(a.x > 8.0 + kLengthTol && a.x < 32.0 - kLengthTol && a.y > 8.0 + kLengthTol && a.y < 32.0 - kLengthTol)
+            << "fill point (" << a.x << ", " << a.y << ") inside the hole's perimeters, layer " << l.layer;
+      }
+    }
+  }
+}
+
+TEST(Toolpath, ContourFillContinuesTheOffsetsUntilEmpty) {
+  const mesh::Mesh box = repaired(test::box({0, 0, 0}, {40, 30, 4}));
+  ToolpathOptions o;
+  o.fill = ToolpathOptions::kContour;
+  const auto layers = plan(box, sliced(box, 1.0), o);
+  for (const auto& l : layers) {
+    const auto fill = of_kind(l, PathKind::kFill);
+    ASSERT_EQ(fill.size(), 5u);  // offsets 5, 7, 9, 11, 13 mm; at 15 mm the 30 mm side closes
+    for (const Path* p : fill) {
+      const double off = 1.0 + 2.0 * p->perimeter_index;
+      EXPECT_NEAR(xy_area(*p), (40 - 2 * off) * (30 - 2 * off), kAreaTol);
+      EXPECT_FALSE(p->outer_contour);
+    }
+  }
+}
+
+TEST(Toolpath, OverlapBringsBeadsCloser) {
+  const mesh::Mesh box = repaired(test::box({0, 0, 0}, {40, 30, 2}));
+  ToolpathOptions o;
+  o.overlap = 0.25;
+  o.perimeters = 3;
+  const auto layers = plan(box, sliced(box, 1.0), o);
+  for (const auto& l : layers) {
+    for (const Path* p : of_kind(l, PathKind::kPerimeter)) {
+      const double off = 1.0 + 1.5 * p->perimeter_index;
+      EXPECT_NEAR(xy_area(*p), (40 - 2 * off) * (30 - 2 * off), kAreaTol);
+    }
+  }
+}
+
+TEST(Toolpath, ThinWallIsReportedNotDropped) {
+  const mesh::Mesh wall = repaired(test::box({0, 0, 0}, {40, 1, 3}));
+  const auto layers = plan(wall, sliced(wall, 1.0), ToolpathOptions{});
+  ASSERT_EQ(layers.size(), 3u);
+  for (const auto& l : layers) {
+    EXPECT_TRUE(l.paths.empty());
+    ASSERT_EQ(l.thin.size(), 1u);
+    EXPECT_EQ(l.thin[0].layer, l.layer);
+    EXPECT_NEAR(l.thin[0].area_mm2, 40.0, kAreaTol);
+    EXPECT_NEAR(l.thin[0].where_mm.x, 20.0, 1e-6);
+    EXPECT_NEAR(l.thin[0].where_mm.y, 0.5, 1e-6);
+    EXPECT_NEAR(l.thin[0].where_mm.z, l.layer + 0.5, 1e-9);
+    EXPECT_FALSE(l.thin[0].what.empty());
+  }
+}
+
+TEST(Toolpath, ThinFinOnABlockIsReported) {
+  // A 1 mm fin from x = 20 to 40 on a 20 mm block: the block gets perimeters, the fin is reported.
+  const mesh::Mesh part = repaired(test::join(test::box({0, 0, 0}, {20, 20, 2}), test::box({15, 9.5, 0}, {40, 10.5, 2})));
+  const auto layers = plan(part, sliced(part, 1.0), ToolpathOptions{});
+  ASSERT_EQ(layers.size(), 2u);
+  for (const auto& l : layers) {
+    EXPECT_EQ(of_kind(l, PathKind::kPerimeter).size(), 2u);
+    ASSERT_EQ(l.thin.size(), 1u);
+    EXPECT_NEAR(l.thin[0].area_mm2, 20.0, 0.01);  // 20 × 1 mm, less the 1 µm slack
+    EXPECT_NEAR(l.thin[0].where_mm.x, 30.0, 0.01);
+  }
+}
+
+TEST(Toolpath, SeamsMoveFromLayerToLayer) {
+  const mesh::Mesh box = repaired(test::box({0, 0, 0}, {40, 30, 20}));
+  const auto layers = plan(box, sliced(box, 1.0), ToolpathOptions{});
+  ASSERT_EQ(layers.size(), 20u);
+  for (std::size_t k = 0; k + 1 < layers.size(); ++k) {
+    const Vec3 a = layers[k].paths.front().points.front().position_mm, b = layers[k + 1].paths.front().points.front().position_mm;
+    EXPECT_FALSE(a.x == b.x && a.y == b.y) << "layers " << k << " and " << k + 1 << " share a seam";
+  }
+}
+
+TEST(Toolpath, VerticalWallsKeepTheBuildDirection) {
+  const mesh::Mesh box = repaired(test::box({0, 0, 0}, {40, 30, 10}));
+  for (const auto& l : plan(box, sliced(box, 1.0), ToolpathOptions{})) {
+    for (const Path& p : l.paths) {
+      for (const PathPoint& q : p.points) EXPECT_EQ(q.tool_axis, (Vec3{0, 0, 1}));
+    }
+  }
+}
+
+constexpr std::uint32_t kFrustumSides = 64;
+
+// The angle from vertical of the side facets of frustum(10, R1, 10, kFrustumSides): the flat
+// sides lie at cos(π/N) times the corner radius.
+double frustum_wall_rad(double r1) { return std::atan((r1 - 10.0) * std::cos(kPi / kFrustumSides) / 10.0); }
+
+// Outer-contour points of a frustum widening upwards: every move over an overhanging wall is
+// tilted by the wall angle (up to the limit), outwards and up; everything else keeps d.
+void expect_frustum_tilt(double r1, double expected_tilt_rad, const ToolpathOptions& o) {
+  const mesh::Mesh m = repaired(frustum(10.0, r1, 10.0, kFrustumSides));
+  const auto layers = plan(m, sliced(m, 1.0), o);
+  ASSERT_EQ(layers.size(), 10u);
+  expect_unit_axes(layers);
+  const Vec3 d{0, 0, 1};
+  std::size_t tilted = 0;
+  for (const auto& l : layers) {
+    for (const Path& p : l.paths) {
+      for (std::size_t i = 0; i < p.points.size(); ++i) {
+        const PathPoint& q = p.points[i];
+        if (p.kind == PathKind::kTravel) continue;  // takes the axes of the paths it joins
+        if (!p.outer_contour) {
+          EXPECT_EQ(q.tool_axis, d);
+          continue;
+        }
+        EXPECT_GT(core::dot(q.tool_axis, d), 0.0);
+        EXPECT_LE(tilt_rad(q, d), kMaxTiltRad + 1e-12);
+        EXPECT_NEAR(tilt_rad(q, d), expected_tilt_rad, 1e-6) << "layer " << l.layer;
+        const Vec3 radial{q.position_mm.x, q.position_mm.y, 0.0};
+        if (expected_tilt_rad > 0.0) {
+          EXPECT_GT(core::dot(q.tool_axis, radial), 0.0) << "the torch leans outwards, along the wall";
+          ++tilted;
+        }
+      }
+    }
+  }
+  if (expected_tilt_rad > 0.0) {
+    EXPECT_GT(tilted, 0u);
+  }
+}
+
+TEST(Toolpath, OverhangingFrustumTiltsOuterContoursByTheWallAngle) {
+  expect_frustum_tilt(20.0, frustum_wall_rad(20.0), ToolpathOptions{});  // wall ≈ 45° from vertical
+}
+
+TEST(Toolpath, SteepOverhangTiltIsLimited) {
+  expect_frustum_tilt(40.0, kMaxTiltRad, ToolpathOptions{});  // wall atan(3) ≈ 71.6° from vertical
+}
+
+TEST(Toolpath, SelfSupportingWallIsNotTilted) {
+  const double r1 = 10.0 + 10.0 * std::tan(20.0 * kPi / 180.0);  // wall 20° from vertical
+  expect_frustum_tilt(r1, 0.0, ToolpathOptions{});
+  ToolpathOptions kapil;  // α = 0: Kapil's Eq. 2 as printed, every downward facet overhangs
+  kapil.self_supporting_deg = 0.0;
+  expect_frustum_tilt(r1, frustum_wall_rad(r1), kapil);
+  ToolpathOptions off;
+  off.tilt_on_overhang = false;
+  expect_frustum_tilt(20.0, 0.0, off);
+}
+
+TEST(Toolpath, SameOutputAtAnyThreadCount) {
+  const mesh::Mesh m = repaired(frustum(10.0, 20.0, 30.0, 48));
+  const auto s = sliced(m, 0.5);
+  ToolpathOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  one.fill_angle_deg = two.fill_angle_deg = 30.0;
+  const auto a = plan(m, s, one), b = plan(m, s, two);
+  ASSERT_EQ(a.size(), s.layers.size());
+  EXPECT_TRUE(same(a, b));
+}
+
+TEST(Toolpath, RejectsBadOptions) {
+  const mesh::Mesh box = repaired(test::cube());
+  const auto s = sliced(box, 1.0);
+  ToolpathOptions o;
+  o.bead_width_mm = 0.0;
+  EXPECT_FALSE(make_toolpaths(box, s, o).ok());
+  o = {};
+  o.overlap = 1.0;
+  EXPECT_FALSE(make_toolpaths(box, s, o).ok());
+  o = {};
+  o.self_supporting_deg = 90.0;
+  EXPECT_FALSE(make_toolpaths(box, s, o).ok());
+  o = {};
+  o.perimeters = -1;
+  auto r = make_toolpaths(box, s, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, core::ErrorCode::kUsage);
+}
+
+// Even-odd point-in-polygon test in the layer's (u, v) frame.
+bool inside(const slicing::Layer& layer, Vec3 p) {
+  const Vec3 q = p - layer.frame.origin;
+  const double u = core::dot(q, layer.frame.u), v = core::dot(q, layer.frame.v);
+  bool in = false;
+  for (const auto& poly : layer.polygons) {
+    std::vector<const geom2d::Ring*> rings{&poly.outer};
+    for (const auto& h : poly.holes) rings.push_back(&h);
+    for (const geom2d::Ring* r : rings) {
+      for (std::size_t i = 0, j = r->size() - 1; i < r->size(); j = i++) {
+        const double xi = geom2d::to_mm((*r)[i].x), yi = geom2d::to_mm((*r)[i].y);
+        const double xj = geom2d::to_mm((*r)[j].x), yj = geom2d::to_mm((*r)[j].y);
+        if ((yi > v) != (yj > v) && u < (xj - xi) * (v - yi) / (yj - yi) + xi) in = !in;
+      }
+    }
+  }
+  return in;
+}
+
+TEST(Toolpath, ReferencePartsDepositInsideTheirSectionsWithValidAxes) {
+  for (const char* name : {"cyl_walls5", "dome_sphere", "hinge", "l_block", "pen_rack", "spiral", "two_branches"}) {
+    auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/" + name + ".stl");
+    ASSERT_TRUE(read.ok()) << name;
+    const mesh::Mesh m = repaired(std::move(read.value().mesh));
+    const auto s = sliced(m, 1.0);
+    for (auto fill : {ToolpathOptions::kZigzag, ToolpathOptions::kContour}) {
+      ToolpathOptions o;
+      o.fill = fill;
+      o.fill_angle_deg = 17.0;
+      const auto layers = plan(m, s, o);
+      ASSERT_EQ(layers.size(), s.layers.size());
+      expect_unit_axes(layers);
+      for (std::size_t k = 0; k < layers.size(); ++k) {
+        const Vec3 d = s.layers[k].frame.d;
+        for (const Path& p : layers[k].paths) {
+          for (const PathPoint& q : p.points) {
+            EXPECT_GT(core::dot(q.tool_axis, d), 0.0);
+            EXPECT_LE(tilt_rad(q, d), kMaxTiltRad + 1e-12);
+            if (p.kind != PathKind::kTravel) {
+              EXPECT_TRUE(inside(s.layers[k], q.position_mm)) << name << " layer " << k;
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(Toolpath, ImpellerBladeTipsAreTilted) {
+  auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/impeller.stl");
+  ASSERT_TRUE(read.ok());
+  const mesh::Mesh m = repaired(std::move(read.value().mesh));
+  const auto s = sliced(m, 1.0);
+  ToolpathOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const auto layers = plan(m, s, two);
+  ASSERT_EQ(layers.size(), s.layers.size());
+  expect_unit_axes(layers);
+  const Vec3 d{0, 0, 1};
+  std::size_t tilted = 0, outer = 0;
+  for (const auto& l : layers) {
+    for (const Path& p : l.paths) {
+      for (const PathPoint& q : p.points) {
+        EXPECT_GT(core::dot(q.tool_axis, d), 0.0);
+        EXPECT_LE(tilt_rad(q, d), kMaxTiltRad + 1e-12);
+        if (p.kind == PathKind::kTravel) continue;  // takes the axes of the paths it joins
+        if (!p.outer_contour) {
+          EXPECT_EQ(q.tool_axis, d);
+          continue;
+        }
+        ++outer;
+        if (tilt_rad(q, d) > 1e-9) ++tilted;
+      }
+    }
+  }
+  EXPECT_GT(tilted, 0u) << "the blade tips overhang ~40°";
+  EXPECT_LT(tilted, outer) << "the hub (16° from vertical) is self-supporting";
+  EXPECT_TRUE(same(layers, plan(m, s, one)));
+}
+
+}  // namespace
+}  // namespace polyaxis::toolpath
