@@ -5,5 +5,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)" --target polyaxis
-build/apps/polyaxis/polyaxis inspect examples/parts/l_block.stl
+cmake --build build -j"$(nproc)" --target polyaxis polyaxis-cad-import
+build/apps/polyaxis/polyaxis plan examples/parts/impeller.stl -o out/impeller

@@ -2,6 +2,7 @@
 // Writes DIR/<part>.ngc, DIR/plan.json and DIR/report.json (schema in docs/plan.md).
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -69,13 +70,18 @@ int run_plan(PlanCommandOptions& o) {
                  static_cast<unsigned long long>(plan.thin_regions), plan.thin_area_mm2);
     ++warnings;
   }
+  using Clock = std::chrono::steady_clock;
+  auto t0 = Clock::now();
   machine::GcodeOptions gopt;
   gopt.chordal_mm = o.chordal_mm;
   auto gcode = machine::write_gcode(machine, process, plan.program, gopt);
   if (!gcode) return report_error(gcode.error());
+  const double gcode_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  t0 = Clock::now();
   // The program is checked by reading it back before anything is written.
   auto sim = machine::simulate(machine, gcode.value(), plan.program, &process);
   if (!sim) return report_error(sim.error());
+  const double simulate_s = std::chrono::duration<double>(Clock::now() - t0).count();
   if (sim.value().limit_violations > 0) {
     return report_error(core::make_error(core::ErrorCode::kMachineLimit,
                                          fmt::format("the program breaks a machine limit: {}", sim.value().violations.empty() ? "" : sim.value().violations.front())));
@@ -85,7 +91,8 @@ int run_plan(PlanCommandOptions& o) {
   std::filesystem::create_directories(o.out_dir, ec);
   if (ec) return report_error(core::make_error(core::ErrorCode::kOutput, fmt::format("{}: cannot create: {}", o.out_dir, ec.message())));
   const std::string stem = std::filesystem::path(o.part.path).stem().string();
-  const report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc"};
+  const report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc", loaded.value().read_s, loaded.value().repair_s,
+                              gcode_s, simulate_s};
   if (auto s = machine::save_gcode(o.out_dir + "/" + stem + ".ngc", gcode.value()); !s) return report_error(s.error());
   if (auto s = io::write_file_atomic(o.out_dir + "/plan.json", report::plan_json(plan, meta), io::Durability::kAtomic); !s) {
     return report_error(s.error());

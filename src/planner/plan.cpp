@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
+#include <map>
 #include <cmath>
 
 #include "polyaxis/geom2d/clip.h"
@@ -13,6 +15,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxSupportAngleDeg = 89.0;  // tan() of the grown angle stays finite
+// A sliver of overhang smaller than this is the polygonal sections disagreeing along a wall at
+// exactly the self-supporting angle, not material hanging in the air.
+constexpr double kPieceNoiseMm2 = 1e-3;
 
 double angle_deg(Vec3 a, Vec3 b) {
   const double c = core::dot(core::normalized(a), core::normalized(b));
@@ -41,9 +46,10 @@ double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer
   const double base_grow = t * std::tan(alpha_deg * kPi / 180.0);
   const auto overhang = geom2d::difference_rings(rings_of(layer.polygons), rings_of(geom2d::offset(below.polygons, base_grow)));
   double total = 0.0;
+  std::map<int, std::vector<geom2d::Ring>> grown_by_angle;  // the layer below grown, per tilt (0.1° steps)
   for (const geom2d::Polygon& piece : overhang) {
     const double piece_area = geom2d::area_mm2(piece);
-    if (piece_area <= 0.0) continue;
+    if (piece_area <= kPieceNoiseMm2) continue;
     // Largest torch tilt of the outer-contour points over this piece (within a bead of its box).
     std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
     for (const auto& q : piece.outer) x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
@@ -62,9 +68,12 @@ double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer
       total += piece_area;
       continue;
     }
-    const double grown = std::min(alpha_deg + tilt, kMaxSupportAngleDeg);
-    const auto still = geom2d::difference_rings(rings_of({piece}), rings_of(geom2d::offset(below.polygons, t * std::tan(grown * kPi / 180.0))));
-    total += area_of(still);
+    const int key = static_cast<int>(std::floor(std::min(alpha_deg + tilt, kMaxSupportAngleDeg) * 10.0));  // rounded down: conservative
+    auto it = grown_by_angle.find(key);
+    if (it == grown_by_angle.end()) {
+      it = grown_by_angle.emplace(key, rings_of(geom2d::offset(below.polygons, t * std::tan(key / 10.0 * kPi / 180.0)))).first;
+    }
+    total += area_of(geom2d::difference_rings(rings_of({piece}), it->second));
   }
   return total;
 }
@@ -88,6 +97,9 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   plan.placement_mm = Vec3{} - centre - d * lowest;
   for (Vec3& v : placed.vertices) v = v + plan.placement_mm;
 
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  auto t0 = Clock::now();
   slicing::SliceOptions slice;
   slice.direction = d;
   slice.layer_mm = process.layer_mm;
@@ -97,6 +109,8 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   plan.layers = std::move(layers.value());
   if (plan.layers.layers.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: the part has no layers");
 
+  plan.times.slice_s = since(t0);
+  t0 = Clock::now();
   toolpath::ToolpathOptions tp;
   tp.bead_width_mm = process.bead_width_mm;
   tp.perimeters = options.perimeters;
@@ -107,6 +121,8 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   if (!paths) return paths.error();
   plan.toolpaths = std::move(paths.value());
 
+  plan.times.toolpath_s = since(t0);
+  t0 = Clock::now();
   // Program: approach from above, the layer's paths in order, retract along the tool axis.
   const double deposit_feed = process.deposit_feed_mm_s, travel_feed = process.travel_feed_mm_s;
   auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
@@ -155,6 +171,8 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     if (i > 0 && angle_deg(p.tool_axis_part, plan.program[i - 1].tool_axis_part) > kReorientationDeg) ++plan.reorientations;
   }
 
+  plan.times.program_s = since(t0);
+  t0 = Clock::now();
   // Support, layer by layer (layer 0 rests on the table).
   const auto& ls = plan.layers.layers;
   plan.layer_reports.resize(ls.size());
@@ -177,6 +195,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     }
     plan.unsupported_area_mm2 += r.unsupported_area_mm2;
   }
+  plan.times.support_s = since(t0);
   return plan;
 }
 

@@ -40,6 +40,9 @@ std::string report_json(const planner::Plan& plan, const machine::SimulationRepo
   j["limit_violations"] = sim.limit_violations;
   j["max_tip_deviation_mm"] = sim.max_tip_deviation_mm;
   j["max_axis_deviation_deg"] = sim.max_axis_deviation_deg;
+  j["timings_s"] = {{"read", meta.read_s},           {"repair", meta.repair_s},         {"slice", plan.times.slice_s},
+                    {"toolpath", plan.times.toolpath_s}, {"program", plan.times.program_s}, {"support", plan.times.support_s},
+                    {"gcode", meta.gcode_s},           {"simulate", meta.simulate_s}};
   j["axis_ranges"] = {{"x", {sim.x_mm.min, sim.x_mm.max}},
                       {"y", {sim.y_mm.min, sim.y_mm.max}},
                       {"z", {sim.z_mm.min, sim.z_mm.max}},

@@ -42,7 +42,16 @@ struct LayerReport {
   std::uint32_t paths = 0;
 };
 
+// Wall-clock seconds of each stage of make_plan.
+struct StageTimes {
+  double slice_s = 0.0;
+  double toolpath_s = 0.0;
+  double program_s = 0.0;
+  double support_s = 0.0;
+};
+
 struct Plan {
+  StageTimes times;
   slicing::SliceResult layers;
   std::vector<toolpath::LayerToolpaths> toolpaths;
   std::vector<machine::ProgramPoint> program;  // tool tip and axis, part frame

@@ -18,6 +18,8 @@ struct PlanMeta {
   std::string machine;   // machine name
   std::string process;   // process name
   std::string gcode;     // the G-code file name
+  // Wall-clock seconds of the stages outside make_plan.
+  double read_s = 0.0, repair_s = 0.0, gcode_s = 0.0, simulate_s = 0.0;
 };
 
 // report.json: the metrics of SPEC §3 (schema in docs/plan.md). SIM is the simulation of the
