@@ -15,6 +15,9 @@ namespace polyaxis::machine {
 
 namespace {
 
+// Share of the chordal tolerance given to subdivision; the rest absorbs the rounding of the words.
+constexpr double kSubdivisionShare = 0.8;
+
 using core::ErrorCode;
 using core::make_error;
 using core::Vec3;
@@ -205,8 +208,10 @@ core::Result<std::string> write_gcode(const motion::MachineConfig& machine, cons
       process_on = false;
     }
     const ProgramPoint& from = points[i - 1];
+    // The written words are rounded (0.1 µm, 0.0001°): keep that share of the tolerance in hand
+    // so the tip read back from the file stays within options.chordal_mm.
     auto poses = motion::subdivide(machine, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev,
-                                   options.chordal_mm);
+                                   options.chordal_mm * kSubdivisionShare);
     if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, poses.error().message));
     const bool rapid = options.rapid_travel && !pt.process_on;
     for (const MachinePose& pose : poses.value()) {
