@@ -28,6 +28,21 @@ double area_mm2(const Polygon& polygon) {
   return a;
 }
 
+double area_mm2(const std::vector<Polygon>& polygons) {
+  double a = 0.0;
+  for (const Polygon& p : polygons) a += area_mm2(p);
+  return a;
+}
+
+std::vector<Ring> rings_of(const std::vector<Polygon>& polygons) {
+  std::vector<Ring> rings;
+  for (const Polygon& p : polygons) {
+    rings.push_back(p.outer);
+    rings.insert(rings.end(), p.holes.begin(), p.holes.end());
+  }
+  return rings;
+}
+
 int orientation(Point a, Point b, Point c) {
   const Int128 d = static_cast<Int128>(b.x - a.x) * (c.y - a.y) - static_cast<Int128>(b.y - a.y) * (c.x - a.x);
   return d > 0 ? 1 : (d < 0 ? -1 : 0);

@@ -24,27 +24,14 @@ double angle_deg(Vec3 a, Vec3 b) {
   return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
 }
 
-double area_of(const std::vector<geom2d::Polygon>& polys) {
-  double a = 0.0;
-  for (const auto& p : polys) a += geom2d::area_mm2(p);
-  return a;
-}
 
-std::vector<geom2d::Ring> rings_of(const std::vector<geom2d::Polygon>& polys) {
-  std::vector<geom2d::Ring> rings;
-  for (const auto& p : polys) {
-    rings.push_back(p.outer);
-    rings.insert(rings.end(), p.holes.begin(), p.holes.end());
-  }
-  return rings;
-}
 
 // The unsupported area of layer K over layer K−1 (see PlanOptions' comment in plan.h).
 double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer, const toolpath::LayerToolpaths& paths,
                         double alpha_deg, double bead_mm) {
   const double t = layer.height_mm - below.height_mm;  // centre to centre: what the new layer hangs over
   const double base_grow = t * std::tan(alpha_deg * kPi / 180.0);
-  const auto overhang = geom2d::difference_rings(rings_of(layer.polygons), rings_of(geom2d::offset(below.polygons, base_grow)));
+  const auto overhang = geom2d::difference_rings(geom2d::rings_of(layer.polygons), geom2d::rings_of(geom2d::offset(below.polygons, base_grow)));
   double total = 0.0;
   std::map<int, std::vector<geom2d::Ring>> grown_by_angle;  // the layer below grown, per tilt (0.1° steps)
   for (const geom2d::Polygon& piece : overhang) {
@@ -71,9 +58,9 @@ double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer
     const int key = static_cast<int>(std::floor(std::min(alpha_deg + tilt, kMaxSupportAngleDeg) * 10.0));  // rounded down: conservative
     auto it = grown_by_angle.find(key);
     if (it == grown_by_angle.end()) {
-      it = grown_by_angle.emplace(key, rings_of(geom2d::offset(below.polygons, t * std::tan(key / 10.0 * kPi / 180.0)))).first;
+      it = grown_by_angle.emplace(key, geom2d::rings_of(geom2d::offset(below.polygons, t * std::tan(key / 10.0 * kPi / 180.0)))).first;
     }
-    total += area_of(geom2d::difference_rings(rings_of({piece}), it->second));
+    total += geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of({piece}), it->second));
   }
   return total;
 }

@@ -64,20 +64,7 @@ class FaceWindow {
   std::vector<std::uint32_t> active_;
 };
 
-double area(const std::vector<geom2d::Polygon>& polys) {
-  double a = 0.0;
-  for (const auto& p : polys) a += geom2d::area_mm2(p);
-  return a;
-}
 
-std::vector<geom2d::Ring> rings_of(const std::vector<geom2d::Polygon>& polys) {
-  std::vector<geom2d::Ring> rings;
-  for (const auto& p : polys) {
-    rings.push_back(p.outer);
-    rings.insert(rings.end(), p.holes.begin(), p.holes.end());
-  }
-  return rings;
-}
 
 // Candidate thicknesses, ascending.
 std::vector<double> candidates(const SliceOptions& o) {
@@ -145,17 +132,17 @@ core::Result<SliceResult> slice_adaptive(const SectionContext& ctx, const SliceO
     const SectionResult s = cut(at, span_faces);
     const double ab = b.area_mm2, at_area = s.area_mm2;
     if (o.limits.voldiff) {
-      const auto band = geom2d::xor_rings(rings_of(b.polygons), rings_of(s.polygons));
+      const auto band = geom2d::xor_rings(geom2d::rings_of(b.polygons), geom2d::rings_of(s.polygons));
       const double denom = std::max(ab, at_area);
-      if (denom > 0.0 && area(band) / denom > *o.limits.voldiff) return false;
+      if (denom > 0.0 && geom2d::area_mm2(band) / denom > *o.limits.voldiff) return false;
     }
     if (o.limits.area_deviation) {  // from an empty bottom (a part starting at a point) any area is infinite deviation
       if (ab == 0.0 ? at_area > 0.0 : std::fabs(at_area - ab) / ab > *o.limits.area_deviation) return false;
     }
     if (o.limits.overhang_deg) {
       const auto grown = geom2d::offset(b.polygons, t * tan_a);
-      const auto beyond = geom2d::difference_rings(rings_of(s.polygons), rings_of(grown));
-      if (area(beyond) > kOverhangAreaMm2) return false;
+      const auto beyond = geom2d::difference_rings(geom2d::rings_of(s.polygons), geom2d::rings_of(grown));
+      if (geom2d::area_mm2(beyond) > kOverhangAreaMm2) return false;
     }
     return true;
   };

@@ -65,15 +65,6 @@ std::size_t nearest_vertex(const Ring& ring, Point target) {
   return best;
 }
 
-std::vector<Ring> rings_of(const std::vector<Polygon>& polygons) {
-  std::vector<Ring> rings;
-  for (const Polygon& p : polygons) {
-    rings.push_back(p.outer);
-    for (const Ring& h : p.holes) rings.push_back(h);
-  }
-  return rings;
-}
-
 // Area-weighted centroid (mm) and area (mm²) of POLYGONS in the layer's (u, v) frame.
 struct Centroid {
   double x = 0.0, y = 0.0, area = 0.0;
@@ -81,7 +72,7 @@ struct Centroid {
 
 Centroid centroid_of(const std::vector<Polygon>& polygons) {
   double sx = 0.0, sy = 0.0, a2 = 0.0;
-  for (const Ring& r : rings_of(polygons)) {
+  for (const Ring& r : geom2d::rings_of(polygons)) {
     for (std::size_t i = 0; i < r.size(); ++i) {
       const double x0 = geom2d::to_mm(r[i].x), y0 = geom2d::to_mm(r[i].y);
       const double x1 = geom2d::to_mm(r[(i + 1) % r.size()].x), y1 = geom2d::to_mm(r[(i + 1) % r.size()].y);
@@ -233,7 +224,7 @@ class LayerPlanner {
       return;
     }
     const auto covered = geom2d::offset(first, w / 2.0 + kThinSlackMm);
-    for (const Polygon& piece : geom2d::difference_rings(rings_of({polygon}), rings_of(covered))) {
+    for (const Polygon& piece : geom2d::difference_rings(geom2d::rings_of({polygon}), geom2d::rings_of(covered))) {
       if (geom2d::area_mm2(piece) >= kThinMinAreaBeads2 * w * w) {
         thin.push_back(thin_region(piece, fmt::format("feature narrower than a bead ({} mm): not deposited", w)));
       }

@@ -37,6 +37,10 @@ Int128 twice_signed_area(const Ring& ring);
 double signed_area_mm2(const Ring& ring);
 // Area of a polygon (outer minus holes) in mm².
 double area_mm2(const Polygon& polygon);
+// Total area of POLYGONS in mm².
+double area_mm2(const std::vector<Polygon>& polygons);
+// Every ring of POLYGONS (outers and holes), for the ring-based booleans of clip.h.
+std::vector<Ring> rings_of(const std::vector<Polygon>& polygons);
 
 // Exact orientation of (a, b, c): +1 counter-clockwise, -1 clockwise, 0 collinear.
 int orientation(Point a, Point b, Point c);

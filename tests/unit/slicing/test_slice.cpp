@@ -195,12 +195,6 @@ TEST(Slice, RejectsBadOptions) {
 
 // Adaptive: every limit given holds between each layer's bottom and top sections, unless the
 // layer is at the minimum thickness and counted as a violation.
-double area_of(const std::vector<geom2d::Polygon>& p) {
-  double a = 0;
-  for (const auto& q : p) a += geom2d::area_mm2(q);
-  return a;
-}
-
 TEST(Adaptive, ThicknessesStayInRangeAndOnTheSnapGrid) {
   const mesh::Mesh m = part("dome_sphere");
   SliceOptions o;
@@ -257,15 +251,6 @@ TEST(Adaptive, CuspLimitThinsLayersOnSlopes) {
   }
 }
 
-std::vector<geom2d::Ring> rings(const std::vector<geom2d::Polygon>& p) {
-  std::vector<geom2d::Ring> r;
-  for (const auto& q : p) {
-    r.push_back(q.outer);
-    r.insert(r.end(), q.holes.begin(), q.holes.end());
-  }
-  return r;
-}
-
 TEST(Adaptive, VolDiffAreaAndOverhangLimitsHold) {
   const mesh::Mesh m = part("pen_rack");
   const SectionContext ctx(m, {0, 0, 1});
@@ -298,12 +283,12 @@ TEST(Adaptive, VolDiffAreaAndOverhangLimitsHold) {
       bool ok = true;
       if (c == 0) {
         const double denom = std::max(bottom.area_mm2, top.area_mm2);
-        ok = area_of(geom2d::xor_rings(rings(bottom.polygons), rings(top.polygons))) <= 0.08 * denom + 1e-6;
+        ok = geom2d::area_mm2(geom2d::xor_rings(geom2d::rings_of(bottom.polygons), geom2d::rings_of(top.polygons))) <= 0.08 * denom + 1e-6;
       } else if (c == 1) {
         ok = std::fabs(top.area_mm2 - bottom.area_mm2) <= 0.05 * bottom.area_mm2 + 1e-6;
       } else {
         const auto grown = geom2d::offset(bottom.polygons, t * std::tan(40.0 * 3.14159265358979 / 180.0));
-        ok = area_of(geom2d::difference_rings(rings(top.polygons), rings(grown))) <= 1e-3;
+        ok = geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of(top.polygons), geom2d::rings_of(grown))) <= 1e-3;
       }
       if (!ok) {
         ++failures;
