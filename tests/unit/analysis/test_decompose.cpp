@@ -1,0 +1,90 @@
+// Decomposition from given break links (the centroidal axis is tested on its own): regions,
+// directions, volumes, support.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "polyaxis/analysis/decompose.h"
+#include "polyaxis/io/read_part.h"
+#include "polyaxis/mesh/properties.h"
+#include "polyaxis/mesh/repair.h"
+#include "polyaxis/mesh/topology.h"
+
+namespace polyaxis::analysis {
+namespace {
+
+mesh::Mesh part(const std::string& name) {
+  auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/" + name + ".stl");
+  EXPECT_TRUE(read.ok());
+  auto r = mesh::repair(std::move(read.value().mesh));
+  EXPECT_TRUE(r.ok());
+  return r.value().mesh;
+}
+
+// An axis of straight links through POINTS; the link into point BREAK_AT is a break link.
+CentroidalAxis polyline_axis(const std::vector<Vec3>& points, std::size_t break_at) {
+  CentroidalAxis axis;
+  for (std::uint32_t i = 0; i < points.size(); ++i) axis.nodes.push_back({i, points[i], {0, 0, 1}, 0.0, 0});
+  for (std::uint32_t i = 0; i + 1 < points.size(); ++i) axis.links.push_back({i, i + 1, i + 1 == break_at});
+  return axis;
+}
+
+double angle_deg(Vec3 a, Vec3 b) { return std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / 3.14159265358979; }
+
+void expect_partition(const RegionTree& tree, double volume) {
+  double sum = 0.0;
+  for (const Region& r : tree.regions) {
+    EXPECT_TRUE(mesh::build_topology(r.mesh).closed()) << "region " << r.id;
+    sum += r.volume_mm3;
+  }
+  EXPECT_NEAR(sum, volume, 1e-3 * volume);
+}
+
+TEST(Decompose, LBlockSplitsAtThePlaneXEquals20) {
+  const mesh::Mesh m = part("l_block");
+  // Up the column, then turning to +X at z = 50 (the arm's mid-height).
+  const auto axis = polyline_axis({{10, 10, 1}, {10, 10, 20}, {10, 10, 50}, {45, 10, 50}}, 3);
+  auto tree = decompose(m, axis);
+  ASSERT_TRUE(tree.ok()) << tree.error().message;
+  const auto& rs = tree.value().regions;
+  ASSERT_EQ(rs.size(), 2u);
+  expect_partition(tree.value(), 44000.0);
+  EXPECT_NEAR(rs[0].volume_mm3, 24000.0, 1.0);
+  EXPECT_NEAR(rs[1].volume_mm3, 20000.0, 1.0);
+  EXPECT_LT(angle_deg(rs[0].build_direction, {0, 0, 1}), 5.0);
+  EXPECT_LT(angle_deg(rs[1].build_direction, {1, 0, 0}), 5.0);
+  EXPECT_NEAR(rs[1].base_point.x, 20.0, 1e-9);
+  EXPECT_EQ(rs[1].parent, 0u);
+  EXPECT_EQ(rs[1].rule, "planar face");
+  EXPECT_TRUE(rs[0].support_free);
+  EXPECT_TRUE(rs[1].support_free);
+}
+
+TEST(Decompose, PenRackBarBuildsAlongItsIncline) {
+  const mesh::Mesh m = part("pen_rack");
+  const double s = std::sin(35.0 * 3.14159265358979 / 180.0), c = std::cos(35.0 * 3.14159265358979 / 180.0);
+  const Vec3 dir{s, 0, c};
+  // The bar's top face: the four vertices furthest along the bar; its centre is on the bar's axis.
+  std::vector<Vec3> v = m.vertices;
+  std::sort(v.begin(), v.end(), [&](Vec3 a, Vec3 b) { return core::dot(a, dir) > core::dot(b, dir); });
+  const Vec3 top = (v[0] + v[1] + v[2] + v[3]) / 4.0;
+  const Vec3 start = top - dir * ((top.z - 6.0) / c);  // where the bar's axis meets the plate top (z = 6)
+  const auto axis = polyline_axis({start - Vec3{0, 0, 5}, start, start + dir * 5.0, start + dir * 30.0}, 2);
+  auto tree = decompose(m, axis);
+  ASSERT_TRUE(tree.ok()) << tree.error().message;
+  const auto& rs = tree.value().regions;
+  // The plate, the bar's corner that pokes 0.7 mm through the plate's bottom (built downwards
+  // from the plate), and the bar.
+  ASSERT_EQ(rs.size(), 3u);
+  expect_partition(tree.value(), mesh::signed_volume(m));
+  EXPECT_EQ(rs[1].rule, "below the plate");
+  EXPECT_LT(angle_deg(rs[1].build_direction, {0, 0, -1}), 1e-9);
+  EXPECT_LT(rs[1].volume_mm3, 50.0);  // a wedge 0.74 mm deep under a 10 x 20 mm section
+  EXPECT_LT(angle_deg(rs[2].build_direction, dir), 5.0);
+  EXPECT_GT(rs[2].volume_mm3, 10000.0);
+  for (const Region& r : rs) EXPECT_TRUE(r.support_free) << "region " << r.id << ": " << r.unsupported_area_mm2;
+}
+
+}  // namespace
+}  // namespace polyaxis::analysis
