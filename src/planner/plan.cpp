@@ -68,50 +68,71 @@ double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer
 }  // namespace
 
 core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
-                             const PlanOptions& options) {
+                             const PlanOptions& options, const std::vector<PlanRegion>& given_regions) {
   Plan plan;
   if (!core::is_finite(options.direction) || core::norm(options.direction) < 1e-12) {
     return core::make_error(core::ErrorCode::kUsage, "--dir: the build direction must be a finite non-zero vector");
   }
-  const Vec3 d = core::normalized(options.direction);
+  const Vec3 d = core::normalized(given_regions.empty() ? options.direction : given_regions.front().direction);
   // Placement: base on the table (height 0 along d), footprint centred on the rotary axis.
-  mesh::Mesh placed = part.mesh;
   double lowest = INFINITY;
   core::Box3 box;
-  for (const Vec3& v : placed.vertices) lowest = std::min(lowest, core::dot(v, d)), box.add(v);
+  for (const Vec3& v : part.mesh.vertices) lowest = std::min(lowest, core::dot(v, d)), box.add(v);
   Vec3 centre = (box.min + box.max) * 0.5;
   centre = centre - d * core::dot(centre, d);  // the centre's part across d
   plan.placement_mm = Vec3{} - centre - d * lowest;
-  for (Vec3& v : placed.vertices) v = v + plan.placement_mm;
+  std::vector<PlanRegion> regions = given_regions;
+  if (regions.empty()) regions.push_back(PlanRegion{0, part.mesh, d});
+  for (PlanRegion& r : regions) {
+    for (Vec3& v : r.mesh.vertices) v = v + plan.placement_mm;
+  }
+  plan.regions = static_cast<std::uint32_t>(regions.size());
 
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
-  auto t0 = Clock::now();
-  slicing::SliceOptions slice;
-  slice.direction = d;
-  slice.layer_mm = process.layer_mm;
-  slice.threads = options.threads;
-  auto layers = slicing::slice(placed, slice, &part.topology);
-  if (!layers) return layers.error();
-  plan.layers = std::move(layers.value());
+  for (const PlanRegion& region : regions) {
+    auto t0 = Clock::now();
+    slicing::SliceOptions slice;
+    slice.direction = region.direction;
+    slice.layer_mm = process.layer_mm;
+    slice.threads = options.threads;
+    // The whole part's topology is valid only for the unsplit part.
+    auto layers = slicing::slice(region.mesh, slice, given_regions.empty() ? &part.topology : nullptr);
+    if (!layers) return layers.error();
+    plan.times.slice_s += since(t0);
+    t0 = Clock::now();
+    toolpath::ToolpathOptions tp;
+    tp.bead_width_mm = process.bead_width_mm;
+    tp.perimeters = options.perimeters;
+    tp.self_supporting_deg = process.self_supporting_deg;
+    tp.tilt_on_overhang = options.tilt_on_overhang && motion::has_rotary_axes(machine.kind);
+    tp.threads = options.threads;
+    tp.region = region.id;
+    auto paths = toolpath::make_toolpaths(region.mesh, layers.value(), tp);
+    if (!paths) return paths.error();
+    plan.times.toolpath_s += since(t0);
+    // Layers are numbered across regions, in build order.
+    const auto offset = static_cast<std::uint32_t>(plan.layers.layers.size());
+    for (slicing::Layer& l : layers.value().layers) {
+      l.index += offset;
+      plan.layers.layers.push_back(std::move(l));
+      plan.region_of_layer.push_back(region.id);
+    }
+    plan.layers.open_chains += layers.value().open_chains;
+    plan.layers.total_area_mm2 += layers.value().total_area_mm2;
+    plan.layers.volume_estimate_mm3 += layers.value().volume_estimate_mm3;
+    for (toolpath::LayerToolpaths& lt : paths.value()) {
+      lt.layer += offset;
+      for (toolpath::Path& path : lt.paths) path.layer += offset;
+      plan.toolpaths.push_back(std::move(lt));
+    }
+  }
   if (plan.layers.layers.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: the part has no layers");
+  auto t0 = Clock::now();
 
-  plan.times.slice_s = since(t0);
-  t0 = Clock::now();
-  toolpath::ToolpathOptions tp;
-  tp.bead_width_mm = process.bead_width_mm;
-  tp.perimeters = options.perimeters;
-  tp.self_supporting_deg = process.self_supporting_deg;
-  tp.tilt_on_overhang = options.tilt_on_overhang && motion::has_rotary_axes(machine.kind);
-  tp.threads = options.threads;
-  auto paths = toolpath::make_toolpaths(placed, plan.layers, tp);
-  if (!paths) return paths.error();
-  plan.toolpaths = std::move(paths.value());
-
-  plan.times.toolpath_s = since(t0);
-  t0 = Clock::now();
   // Program: approach from above, the layer's paths in order, retract along the tool axis.
   const double deposit_feed = process.deposit_feed_mm_s, travel_feed = process.travel_feed_mm_s;
+  std::uint32_t region_id = 0;
   auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
     machine::ProgramPoint p;
     p.tip_part_mm = tip;
@@ -119,11 +140,12 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     p.feed_mm_s = on ? deposit_feed : travel_feed;
     p.process_on = on;
     p.layer = layer;
-    p.region = 0;
+    p.region = region_id;
     p.comment_if_new_block = std::move(comment);
     plan.program.push_back(std::move(p));
   };
   for (const toolpath::LayerToolpaths& lt : plan.toolpaths) {
+    region_id = plan.region_of_layer[lt.layer];
     plan.deposit_length_mm += lt.deposit_length_mm;
     plan.travel_length_mm += lt.travel_length_mm;
     plan.thin_regions += lt.thin.size();
@@ -154,7 +176,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   if (plan.program.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: every layer is thinner than a bead");
   for (std::size_t i = 0; i < plan.program.size(); ++i) {
     const machine::ProgramPoint& p = plan.program[i];
-    if (p.process_on) plan.max_tilt_deg = std::max(plan.max_tilt_deg, angle_deg(p.tool_axis_part, d));
+    if (p.process_on) plan.max_tilt_deg = std::max(plan.max_tilt_deg, angle_deg(p.tool_axis_part, plan.layers.layers[p.layer].frame.d));
     if (i > 0 && angle_deg(p.tool_axis_part, plan.program[i - 1].tool_axis_part) > kReorientationDeg) ++plan.reorientations;
   }
 
@@ -166,6 +188,8 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   for (std::size_t k = 0; k < ls.size(); ++k) {
     LayerReport& r = plan.layer_reports[k];
     r.index = ls[k].index;
+    r.region = plan.region_of_layer[k];
+    const Vec3 layer_d = ls[k].frame.d;
     r.height_mm = ls[k].height_mm;
     r.thickness_mm = ls[k].thickness_mm();
     r.area_mm2 = ls[k].area_mm2;
@@ -173,10 +197,11 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     r.paths = static_cast<std::uint32_t>(lt.paths.size());
     for (const auto& path : lt.paths) {
       for (const auto& p : path.points) {
-        if (p.deposit) r.max_tilt_deg = std::max(r.max_tilt_deg, angle_deg(p.tool_axis, d));
+        if (p.deposit) r.max_tilt_deg = std::max(r.max_tilt_deg, angle_deg(p.tool_axis, layer_d));
       }
     }
-    if (k > 0) {
+    // A region's first layer rests on its parent region or on the plate.
+    if (k > 0 && plan.region_of_layer[k - 1] == r.region) {
       r.unsupported_area_mm2 = unsupported_area(ls[k - 1], ls[k], lt, process.self_supporting_deg, process.bead_width_mm);
       if (r.unsupported_area_mm2 < kUnsupportedNoiseMm2) r.unsupported_area_mm2 = 0.0;
     }

@@ -21,7 +21,7 @@ std::string report_json(const planner::Plan& plan, const machine::SimulationRepo
   j["process"] = meta.process;
   j["gcode"] = meta.gcode;
   j["layers"] = plan.layers.layers.size();
-  j["regions"] = 1;
+  j["regions"] = plan.regions;
   j["path_length_mm"] = plan.deposit_length_mm + plan.travel_length_mm;
   j["deposit_length_mm"] = plan.deposit_length_mm;
   j["travel_length_mm"] = plan.travel_length_mm;
@@ -63,6 +63,7 @@ std::string plan_json(const planner::Plan& plan, const PlanMeta& meta) {
     const auto& l = plan.layers.layers[k];
     const auto& r = plan.layer_reports[k];
     layers.push_back({{"index", l.index},
+                      {"region", r.region},
                       {"origin", vec(l.frame.origin)},
                       {"normal", vec(l.frame.d)},
                       {"thickness_mm", l.thickness_mm()},

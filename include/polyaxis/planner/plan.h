@@ -32,8 +32,16 @@ struct PlanOptions {
 // direction: each piece of overhang is counted as supported when it lies within the layer below
 // grown by t·tan(α + θ), θ the largest tilt of the outer-contour points over that piece (within a
 // bead of it). With the torch along d everywhere this is the plain planar check.
+// One region of the part, built along its own direction (analysis::decompose gives these).
+struct PlanRegion {
+  std::uint32_t id = 0;
+  mesh::Mesh mesh;          // closed, in the part's frame (before placement)
+  Vec3 direction{0, 0, 1};  // build direction
+};
+
 struct LayerReport {
   std::uint32_t index = 0;
+  std::uint32_t region = 0;
   double height_mm = 0.0;
   double thickness_mm = 0.0;
   double area_mm2 = 0.0;
@@ -56,6 +64,8 @@ struct Plan {
   std::vector<toolpath::LayerToolpaths> toolpaths;
   std::vector<machine::ProgramPoint> program;  // tool tip and axis, part frame
   std::vector<LayerReport> layer_reports;
+  std::vector<std::uint32_t> region_of_layer;  // region id of each layer
+  std::uint32_t regions = 1;
   Vec3 placement_mm;          // translation applied to the part: centred on the table, base at 0
   double deposit_length_mm = 0.0;
   double travel_length_mm = 0.0;
@@ -75,8 +85,10 @@ inline constexpr double kUnsupportedNoiseMm2 = 0.01;
 // Places PART (translating it so that its base along the build direction sits on the table at
 // 0 and its footprint is centred on the rotary axis), slices it at the process's layer height,
 // makes toolpaths with the process's bead, checks support, and lists the program points.
+// REGIONS (parents before children; empty: the whole part along options.direction) are built one
+// after the other, each sliced along its own direction; layers are numbered across regions.
 // Errors: bad options (kUsage), nothing to build (kInfeasible).
 core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
-                             const PlanOptions& options);
+                             const PlanOptions& options, const std::vector<PlanRegion>& regions = {});
 
 }  // namespace polyaxis::planner
