@@ -4,7 +4,6 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/clip.h>
-#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Surface_mesh.h>
 
 #include <map>
@@ -34,14 +33,14 @@ Mesh to_mesh(const SurfaceMesh& sm) {
     const Point& p = sm.point(v);
     out.vertices.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
   }
+  std::vector<std::uint32_t> corners;
   for (auto f : sm.faces()) {
-    Triangle t{};
-    int k = 0;
+    corners.clear();
     for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
-      if (k < 3) t[static_cast<std::size_t>(k)] = index[v];
-      ++k;
+      corners.push_back(index[v]);
+      if (corners.size() > sm.number_of_vertices()) break;  // a broken cycle: never loop forever
     }
-    if (k == 3) out.triangles.push_back(t);
+    for (std::size_t k = 1; k + 1 < corners.size(); ++k) out.triangles.push_back({corners[0], corners[k], corners[k + 1]});
   }
   return out;
 }
@@ -56,7 +55,12 @@ core::Result<Mesh> keep_negative(const Mesh& mesh, Vec3 point, Vec3 normal) {
   } catch (const std::exception& e) {
     return core::make_error(core::ErrorCode::kInfeasible, std::string("the plane cut failed: ") + e.what());
   }
-  PMP::triangulate_faces(sm);
+  sm.collect_garbage();
+  if (!CGAL::is_valid_polygon_mesh(sm)) {
+    return core::make_error(core::ErrorCode::kInfeasible, "the plane cut left an invalid mesh (is the part self-intersecting?)");
+  }
+  // Corefinement keeps a triangle mesh; to_mesh fans any other face (PMP::triangulate_faces can
+  // loop on the degenerate faces a cut through a vertex leaves).
   return to_mesh(sm);
 }
 
