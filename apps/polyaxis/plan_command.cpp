@@ -11,6 +11,8 @@
 #include "commands.h"
 #include "config_options.h"
 #include "part_options.h"
+#include "polyaxis/analysis/centroidal_axis.h"
+#include "polyaxis/analysis/decompose.h"
 #include "polyaxis/io/write_file.h"
 #include "polyaxis/machine/gcode.h"
 #include "polyaxis/machine/simulate.h"
@@ -26,6 +28,7 @@ struct PlanCommandOptions {
   std::string dir = "0,0,1";
   std::string out_dir = "plan";
   bool no_tilt = false;
+  bool decompose = false;
   bool json = false;
   double chordal_mm = 0.01;
   planner::PlanOptions plan;
@@ -62,7 +65,28 @@ int run_plan(PlanCommandOptions& o) {
   std::size_t warnings = 0;
   for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
 
-  auto planned = planner::make_plan(loaded.value().repaired, machine, process, o.plan);
+  std::vector<planner::PlanRegion> regions;
+  if (o.decompose) {
+    const mesh::RepairedMesh& part = loaded.value().repaired;
+    analysis::CentroidalAxisOptions axis_options;
+    axis_options.start_direction = o.plan.direction;
+    auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
+    if (!axis) return report_error(axis.error());
+    analysis::DecomposeOptions dopt;
+    dopt.root_direction = o.plan.direction;
+    dopt.self_supporting_deg = process.self_supporting_deg;
+    auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
+    if (!tree) return report_error(tree.error());
+    for (const analysis::Region& r : tree.value().regions) {  // parents come before children
+      regions.push_back(planner::PlanRegion{r.id, r.mesh, r.build_direction});
+      if (!r.support_free) {
+        std::fprintf(stderr, "polyaxis: warning: region %u is not support-free along its direction (%.1f mm2 overhang)\n", r.id,
+                     r.unsupported_area_mm2);
+        ++warnings;
+      }
+    }
+  }
+  auto planned = planner::make_plan(loaded.value().repaired, machine, process, o.plan, regions);
   if (!planned) return report_error(planned.error());
   const planner::Plan& plan = planned.value();
   if (plan.thin_regions > 0) {
@@ -122,6 +146,9 @@ Runner add_plan_command(CLI::App& app) {
   cmd->add_option("--dir", o->dir, "Build direction X,Y,Z in the part's frame")->capture_default_str();
   cmd->add_option("-o,--out", o->out_dir, "Output directory")->capture_default_str();
   cmd->add_flag("--no-tilt", o->no_tilt, "Keep the torch along the build direction (planar 3-axis deposition)");
+  cmd->add_flag("--decompose", o->decompose,
+                "Split the part into regions at the centroidal axis's break links (polyaxis analyze) and build each along its own "
+                "direction, parents first");
   cmd->add_option("--perimeters", o->plan.perimeters, "Perimeters per island")->capture_default_str()->check(CLI::Range(0, 100));
   cmd->add_option("--path-tolerance-mm", o->chordal_mm, "Largest tool-tip deviation from the path between G-code blocks, mm")
       ->capture_default_str()->check(CLI::Range(1e-4, 1.0));

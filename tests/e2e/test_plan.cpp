@@ -125,6 +125,30 @@ TEST(PlanImpeller, TiltedTorchMakesTheBladeTipsSupportFree) {  // Kapil's compar
   EXPECT_GT(tilt["max_tilt_deg"].get<double>(), 0.0);
 }
 
+TEST(PlanLBlock, DecompositionBuildsTheArmAlongXAndIsSupportFree) {
+  TempDir dir;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
+  const auto planar = run_cli("plan '" + part + "' -o '" + (dir / "planar").string() + "'");
+  ASSERT_EQ(planar.exit_code, 0) << planar.err;
+  EXPECT_FALSE(read_json(dir / "planar" / "report.json")["support_free"].get<bool>());  // the arm's underside
+  const auto split = run_cli("plan '" + part + "' --decompose -o '" + (dir / "split").string() + "'");
+  ASSERT_EQ(split.exit_code, 0) << split.err;
+  const auto report = read_json(dir / "split" / "report.json");
+  EXPECT_EQ(report["regions"].get<int>(), 2);
+  EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+  EXPECT_EQ(report["limit_violations"].get<int>(), 0);
+  EXPECT_NEAR(report["volume_estimate_mm3"].get<double>(), 44000.0, 0.01 * 44000.0);
+  const auto plan = read_json(dir / "split" / "plan.json");
+  bool along_x = false;
+  for (const auto& layer : plan["layers"]) {
+    if (layer["region"].get<int>() == 1) along_x = along_x || std::fabs(layer["normal"][0].get<double>() - 1.0) < 1e-9;
+  }
+  EXPECT_TRUE(along_x);
+  const auto sim = run_cli("simulate '" + (dir / "split" / "l_block.ngc").string() + "' --plan '" + (dir / "split" / "plan.json").string() + "' --json");
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_LE(nlohmann::json::parse(sim.out)["max_tip_deviation_mm"].get<double>(), 0.01);
+}
+
 TEST(PlanErrors, BadConfigurationExitsTwoNamingTheKey) {
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
   auto r = run_cli("plan '" + part + "' --set process.bead_widht_mm=2 -o /tmp/never");
