@@ -44,6 +44,7 @@ double solid_angle(Vec3 a, Vec3 b, Vec3 c) {
 
 constexpr double kFourPi = 4.0 * 3.14159265358979323846;
 constexpr std::size_t kMaxShellsForNesting = 2000;  // nesting is pairwise: bound the cost
+constexpr std::size_t kNestingProbes = 8;          // corners tested per shell, besides one face centroid
 
 struct ComponentInfo {
   double volume = 0.0;
@@ -171,21 +172,41 @@ std::vector<Shell> build_shells(Mesh& mesh, const std::vector<std::uint32_t>& co
   }
   if (closed && count > 1 && count <= kMaxShellsForNesting) {
     for (std::uint32_t s = 0; s < count; ++s) {
-      // Probe point: the centroid of the shell's largest face.
-      std::uint32_t best = faces_of(s).front();
-      double best_area = -1.0;
-      for (auto f : faces_of(s)) {
-        const double a = norm(face_area_vector(mesh, f));
-        if (a > best_area) best_area = a, best = f;
+      // Probes: the centroid of the shell's largest face and up to kNestingProbes of its corners,
+      // spread over its faces. A shell is inside another only when every probe is: shells that
+      // merely overlap (a self-intersecting model) are not nested.
+      std::vector<Vec3> probes;
+      {
+        std::uint32_t best = faces_of(s).front();
+        double best_area = -1.0;
+        for (auto f : faces_of(s)) {
+          const double a = norm(face_area_vector(mesh, f));
+          if (a > best_area) best_area = a, best = f;
+        }
+        probes.push_back((mesh.corner(best, 0) + mesh.corner(best, 1) + mesh.corner(best, 2)) / 3.0);
+        const auto faces = faces_of(s);
+        const std::size_t step = std::max<std::size_t>(1, faces.size() / kNestingProbes);
+        for (std::size_t i = 0; i < faces.size() && probes.size() <= kNestingProbes; i += step) {
+          probes.push_back((mesh.corner(faces[i], 0) * 0.98 + mesh.corner(faces[i], 1) * 0.01 + mesh.corner(faces[i], 2) * 0.01));
+        }
       }
-      const Vec3 p = (mesh.corner(best, 0) + mesh.corner(best, 1) + mesh.corner(best, 2)) / 3.0;
       for (std::uint32_t t = 0; t < count; ++t) {
         if (t == s) continue;
         const core::Box3& b = info[t].box;
-        if (p.x < b.min.x || p.x > b.max.x || p.y < b.min.y || p.y > b.max.y || p.z < b.min.z || p.z > b.max.z) continue;
-        double omega = 0.0;
-        for (auto f : faces_of(t)) omega += solid_angle(mesh.corner(f, 0) - p, mesh.corner(f, 1) - p, mesh.corner(f, 2) - p);
-        if (std::fabs(omega / kFourPi) > core::kInsideWindingNumber) ++info[s].depth;
+        bool inside = true;
+        for (const Vec3& p : probes) {
+          if (p.x < b.min.x || p.x > b.max.x || p.y < b.min.y || p.y > b.max.y || p.z < b.min.z || p.z > b.max.z) {
+            inside = false;
+            break;
+          }
+          double omega = 0.0;
+          for (auto f : faces_of(t)) omega += solid_angle(mesh.corner(f, 0) - p, mesh.corner(f, 1) - p, mesh.corner(f, 2) - p);
+          if (!(std::fabs(omega / kFourPi) > core::kInsideWindingNumber)) {
+            inside = false;
+            break;
+          }
+        }
+        if (inside) ++info[s].depth;
       }
     }
   }

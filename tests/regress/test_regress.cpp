@@ -3,6 +3,7 @@
 
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/mesh/topology.h"
+#include "support/meshes.h"
 
 namespace polyaxis::mesh {
 namespace {
@@ -23,6 +24,16 @@ TEST(Regress, HoleFillNeverRepeatsAnExistingEdge) {
   }
   EXPECT_EQ(build_topology(r.value().mesh).nonmanifold_edges, 0u);
   EXPECT_TRUE(r.value().manifold);
+}
+
+// A box poking out of the top of a column (a self-intersecting model of two overlapping solids)
+// was dropped as an "interior shell": the centroid of its largest face lies inside the column.
+TEST(Regress, OverlappingShellsAreNotNested) {
+  io::RawMesh raw = test::join(test::box({0, 0, 0}, {20, 20, 60}), test::box({5, 5, 40}, {15, 15, 70}));
+  auto r = repair(raw);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().shells.size(), 2u);
+  EXPECT_EQ(r.value().report.interior_shells_removed, 0u);
 }
 
 }  // namespace
