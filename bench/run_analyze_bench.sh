@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Time `polyaxis analyze` stage by stage (overhang map, centroidal axis, skeleton, decomposition)
+# on every reference part and on the ~1.3M-triangle bumpy sphere (bench/make_bench_mesh 8).
+# Prints a Markdown table of the timings_s of analysis.json (median of RUNS runs).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j"$(nproc)" --target polyaxis make_bench_mesh >/dev/null
+mkdir -p bench/data
+[ -f bench/data/bumpy_1.3m.stl ] || build/bench/make_bench_mesh 8 bench/data/bumpy_1.3m.stl >/dev/null
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+runs=${RUNS:-3}
+echo "| part | triangles | overhang ms | centroidal axis ms | skeleton ms | decomposition ms | regions | axis branches | skeleton edges |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+for f in examples/parts/*.stl bench/data/bumpy_1.3m.stl; do
+  name=$(basename "$f" .stl)
+  for i in $(seq "$runs"); do
+    build/apps/polyaxis/polyaxis --quiet analyze "$f" -o "$out/$name" >/dev/null 2>&1
+    cp "$out/$name/analysis.json" "$out/$name.$i.json"
+  done
+  /usr/bin/python3 - "$name" "$f" "$out" "$runs" <<'PY'
+import json, statistics, sys, struct, os
+name, path, out, runs = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
+docs = [json.load(open(f"{out}/{name}.{i}.json")) for i in range(1, runs + 1)]
+med = lambda k: statistics.median(d["timings_s"][k] for d in docs) * 1000
+d = docs[0]
+data = open(path, "rb").read(84)
+tris = (os.path.getsize(path) - 84) // 50 if not data.startswith(b"solid") else sum(1 for l in open(path, errors="ignore") if "endfacet" in l)
+print("| %s | %d | %.1f | %.1f | %.1f | %.1f | %d | %d | %d |" % (name, tris, med("overhang"), med("centroidal_axis"), med("skeleton"), med("decompose"),
+      len(d["regions"]), len(d["centroidal_axis"]["branches"]), len(d["skeleton"]["edges"]) if d["skeleton"] else 0))
+PY
+done
