@@ -21,7 +21,7 @@
 //    (a part standing on feet), the upper loop starts the root branch and the feet become its
 //    children, reversed (direction −D: they hang below the body). Otherwise the merge closes a
 //    cycle: the new branch is a child of the first branch, with extra links from the others.
-//  * A branch of kStubSections sections or fewer (shorter than 2·inc) cannot spawn a side
+//  * A branch of kShortBranchSections sections or fewer (shorter than 2·inc) cannot spawn a side
 //    branch larger than itself: a sliver where a part touches the plate at an edge is not a feature (pen_rack).
 //  * Eq. 4: the new branch's first plane lies ε beyond the lower loop's boundary along P; of that
 //    section, the loops that contain the piece's points on the line where the two planes meet
@@ -65,7 +65,7 @@ using geom2d::Ring;
 // Tolerances of this analysis, with their units.
 constexpr double kStartOffsetMm = 1e-3;     // Ruan's ε: first plane above the base, and Eq. 4
 constexpr double kFarFactor = 1.5;          // piece centroid farther than this × inc from L: a branch
-constexpr std::size_t kStubSections = 2;    // branch of at most this many sections: a stub (see above)
+constexpr std::size_t kShortBranchSections = 2;    // branch of at most this many sections: a short branch (see above)
 constexpr double kMinPieceAreaMm2 = 0.01;   // Eq. 2 pieces below this are rounding slivers ...
 constexpr double kMinPieceShare = 1e-3;     // ... as are pieces below this share of the upper loop
 constexpr double kMinOverlapAreaMm2 = 1e-3; // loops overlapping by less do not continue each other
@@ -695,8 +695,8 @@ void Engine::sweep(int k, double h0, int depth, std::optional<std::uint32_t> fat
           // alone (a sliver where a round-bottomed feature first shows is a real piece).
           if (g.area_mm2 <= kMinPieceAreaMm2 || depth >= kMaxDepth) continue;
           if (distance_mm(g.cu, g.cv, Polygon{lower.outer, {}}) <= kFarFactor * inc_) continue;
-          const bool stub = branches_[tr.branch].nodes.size() <= kStubSections && g.area_mm2 > lower_area;
-          if (stub) continue;
+          const bool short_branch = branches_[tr.branch].nodes.size() <= kShortBranchSections && g.area_mm2 > lower_area;
+          if (short_branch) continue;
           const int kp = closest_major(to_world(k, h1, g.cu, g.cv) - c_lower);
           if (axis_of(kp) == axis_of(k)) continue;
           // Eq. 4: T = max of ∂Lower projected on P; the new plane is ε beyond it.
