@@ -18,6 +18,12 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kCoplanarCos = 0.9999999;
 // Unsupported area below this is the cut's own numerical noise.
 constexpr double kUnsupportedNoiseMm2 = 0.01;
+// A splitting face is a real planar face of the part, not one facet of a tessellated curve: it
+// has at least this many facets and this much area. At most kMaxSplitCandidates faces, the nearest
+// to the break link, are tried per link (each try is a CGAL cut).
+constexpr std::uint32_t kMinSplitFaceFacets = 2;
+constexpr double kMinSplitFaceMm2 = 1.0;
+constexpr std::size_t kMaxSplitCandidates = 8;
 // A facet within this of a region's base plane rests on it.
 constexpr double kOnBaseMm = 1e-6;
 // A face within this angle of facing straight down, and at least this large, is a candidate for
@@ -31,6 +37,7 @@ struct PlanarFace {
   Vec3 normal;
   Vec3 point;
   double area_mm2 = 0.0;
+  std::uint32_t facets = 0;
   bool concave_edge = false;
 };
 
@@ -47,13 +54,14 @@ std::vector<PlanarFace> planar_faces(const mesh::Mesh& m) {
   for (std::uint32_t seed = 0; seed < nf; ++seed) {
     if (face_of[seed] != mesh::kNoHalfEdge) continue;
     const auto id = static_cast<std::uint32_t>(faces.size());
-    PlanarFace face{normal[seed], m.corner(seed, 0), 0.0, false};
+    PlanarFace face{normal[seed], m.corner(seed, 0), 0.0, 0, false};
     stack.assign(1, seed);
     face_of[seed] = id;
     while (!stack.empty()) {
       const std::uint32_t f = stack.back();
       stack.pop_back();
       face.area_mm2 += core::norm(mesh::face_area_vector(m, f)) / 2.0;
+      ++face.facets;
       for (std::uint32_t k = 0; k < 3; ++k) {
         const std::uint32_t o = topo.opposite[3 * f + k];
         if (o == mesh::kNoHalfEdge) continue;
@@ -250,12 +258,23 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       auto s = try_split(tree.regions[host], point, normal, to, dir, options.self_supporting_deg, rule);
       if (s && (!chosen || s->unsupported < chosen->unsupported - 1e-9)) chosen = std::move(s);
     };
+    // Candidate faces: real planar faces (several facets, some area), nearest to the link first.
+    std::vector<const PlanarFace*> near;
     for (const PlanarFace& f : faces) {
-      if (!f.concave_edge) continue;
+      if (f.concave_edge && f.facets >= kMinSplitFaceFacets && f.area_mm2 >= kMinSplitFaceMm2) near.push_back(&f);
+    }
+    std::sort(near.begin(), near.end(), [&](const PlanarFace* a, const PlanarFace* b) {
+      return std::fabs(core::dot(a->point - from, a->normal)) < std::fabs(core::dot(b->point - from, b->normal));
+    });
+    std::size_t tried = 0;
+    for (const PlanarFace* fp : near) {
+      const PlanarFace& f = *fp;
+      if (tried >= kMaxSplitCandidates) break;
       for (const Vec3 d : {dir, father_dir}) {
         if (std::min(angle_deg(f.normal, d), angle_deg(f.normal * -1.0, d)) > options.face_normal_tolerance_deg) continue;
         const double c = core::dot(f.point, d), lo = std::min(core::dot(from, d), core::dot(to, d)), hi = std::max(core::dot(from, d), core::dot(to, d));
         if (c < lo - kLinkOverlapMm || c > hi + kLinkOverlapMm) continue;
+        ++tried;
         consider(f.point, f.normal, "planar face");
       }
     }
