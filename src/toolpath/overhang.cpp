@@ -1,4 +1,4 @@
-// Kapil, Negi, Kaustubh & Karunakaran, "5-axis slicing methods for additive manufacturing of
+// Kapil, Negi et al., "5-axis slicing methods for additive manufacturing of
 // metallic parts", §5-axis slicing, planar: Eq. 1 (t = n × (p_{i+1} − p_i) / |·|), Eq. 2 (the
 // facet overhangs when n·k < 0) and Eq. 3 (t = k otherwise). The overhang test takes the
 // self-supporting angle into account (toolpath.h) and the tilt is limited to kMaxTiltRad.
