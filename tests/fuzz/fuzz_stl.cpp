@@ -3,10 +3,10 @@
 // in range.
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <string_view>
 
-#include "polyaxis/core/vec3.h"
+#include "raw_mesh_invariants.h"
+
 #include "polyaxis/io/stl.h"
 #include "polyaxis/mesh/repair.h"
 
@@ -16,15 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.max_triangles = 100000;
   auto r = io::read_stl(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.stl", options);
   if (!r) return 0;
-  const io::RawMesh& m = r.value().mesh;
-  for (const auto& p : m.points) {
-    if (!core::is_finite(p)) std::abort();
-  }
-  for (const auto& t : m.triangles) {
-    for (auto v : t) {
-      if (v >= m.points.size()) std::abort();
-    }
-  }
+  fuzz::check_raw_mesh(r.value().mesh);
   mesh::RepairOptions repair_options;
   repair_options.check_self_intersections = size < 20000;
   (void)mesh::repair(r.value().mesh, repair_options);
