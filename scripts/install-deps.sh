@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages polyaxis builds and tests with, only when one is missing.
+# Installs the Debian 12 packages polyaxis builds and tests with, only when one is missing, then
+# the viewer's npm packages (viewer/package-lock.json) when they are missing or out of date.
 # Run as root (or with sudo). Idempotent: a machine that has everything is not touched.
 set -euo pipefail
 packages=(
@@ -15,18 +16,32 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # a real G-code interpreter (rs274) for tests/unit/machine/test_rs274.cpp
   linuxcnc-uspace
+  # a real browser for the report viewer's tests (tests/browser)
+  chromium
 )
+# Node.js and npm bundle the viewer; Debian's are used only when the machine has none.
+command -v node >/dev/null || packages+=(nodejs)
+command -v npm >/dev/null || packages+=(npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
-  exit 0
+else
+  echo "install-deps: installing ${missing[*]}"
+  sudo_cmd=()
+  [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -q
+  "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
-echo "install-deps: installing ${missing[*]}"
-sudo_cmd=()
-[ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
-export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -q
-"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+# The viewer's packages (three, esbuild, playwright-core), exactly as locked. npm records what it
+# installed in node_modules/.package-lock.json; a newer lock file means they are out of date.
+viewer="$(dirname "$0")/../viewer"
+if [ ! -f "$viewer/node_modules/.package-lock.json" ] || [ "$viewer/package-lock.json" -nt "$viewer/node_modules/.package-lock.json" ]; then
+  echo "install-deps: npm ci in viewer/"
+  (cd "$viewer" && npm ci --no-audit --no-fund --loglevel=error)
+else
+  echo "install-deps: viewer npm packages present"
+fi

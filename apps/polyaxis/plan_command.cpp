@@ -1,5 +1,6 @@
 // polyaxis plan PART [--machine M] [--process P] [--set K=V] [--dir X,Y,Z] [-o DIR]: the main job.
-// Writes DIR/<part>.ngc, DIR/plan.json and DIR/report.json (schema in docs/plan.md).
+// Writes DIR/<part>.ngc, DIR/plan.json, DIR/report.json (schemas in docs/plan.md), DIR/report.html
+// (the 3-D viewer) and, with --svg, one SVG per layer.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -17,7 +18,10 @@
 #include "polyaxis/machine/gcode.h"
 #include "polyaxis/machine/simulate.h"
 #include "polyaxis/planner/plan.h"
+#include "polyaxis/report/layers.h"
 #include "polyaxis/report/plan_files.h"
+#include "polyaxis/report/plan_view.h"
+#include "polyaxis/report/report_html.h"
 
 namespace polyaxis::app {
 namespace {
@@ -30,6 +34,8 @@ struct PlanCommandOptions {
   bool no_tilt = false;
   bool decompose = false;
   bool json = false;
+  bool svg = false;
+  bool html = true;
   double chordal_mm = 0.01;
   planner::PlanOptions plan;
 };
@@ -66,6 +72,7 @@ int run_plan(PlanCommandOptions& o) {
   for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
 
   std::vector<planner::PlanRegion> regions;
+  std::optional<analysis::CentroidalAxis> axis_shown;
   if (o.decompose) {
     const mesh::RepairedMesh& part = loaded.value().repaired;
     analysis::CentroidalAxisOptions axis_options;
@@ -77,8 +84,16 @@ int run_plan(PlanCommandOptions& o) {
     dopt.self_supporting_deg = process.self_supporting_deg;
     auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
     if (!tree) return report_error(tree.error());
+    axis_shown = axis.value();
     for (const analysis::Region& r : tree.value().regions) {  // parents come before children
-      regions.push_back(planner::PlanRegion{r.id, r.mesh, r.build_direction});
+      planner::PlanRegion pr;
+      pr.id = r.id;
+      pr.mesh = r.mesh;
+      pr.direction = r.build_direction;
+      pr.parent = r.parent;
+      pr.base_point = r.base_point;
+      pr.support_free = r.support_free;
+      regions.push_back(std::move(pr));
       if (!r.support_free) {
         std::fprintf(stderr, "polyaxis: warning: region %u is not support-free along its direction (%.1f mm2 overhang)\n", r.id,
                      r.unsupported_area_mm2);
@@ -118,11 +133,24 @@ int run_plan(PlanCommandOptions& o) {
   const report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc", loaded.value().read_s, loaded.value().repair_s,
                               gcode_s, simulate_s};
   if (auto s = machine::save_gcode(o.out_dir + "/" + stem + ".ngc", gcode.value()); !s) return report_error(s.error());
-  if (auto s = io::write_file_atomic(o.out_dir + "/plan.json", report::plan_json(plan, meta), io::Durability::kAtomic); !s) {
+  const std::string report_text = report::report_json(plan, sim.value(), meta);
+  const report::PlanView view =
+      report::make_plan_view(plan, machine, process, axis_shown ? &*axis_shown : nullptr, o.part.path, report_text);
+  if (auto s = io::write_file_atomic(o.out_dir + "/plan.json", report::plan_view_json(view), io::Durability::kAtomic); !s) {
     return report_error(s.error());
   }
-  const std::string report_text = report::report_json(plan, sim.value(), meta);
   if (auto s = io::write_file_atomic(o.out_dir + "/report.json", report_text, io::Durability::kAtomic); !s) return report_error(s.error());
+  if (o.html) {
+    const std::string html = report::report_html(view, report::viewer_bundle());
+    if (auto s = io::write_file_atomic(o.out_dir + "/report.html", html, io::Durability::kAtomic); !s) return report_error(s.error());
+  }
+  if (o.svg) {
+    for (std::size_t k = 0; k < plan.layers.layers.size(); ++k) {
+      const std::string name = fmt::format("{}/layer_{:05d}.svg", o.out_dir, plan.layers.layers[k].index);
+      const std::string text = report::layer_svg(plan.layers.layers[k], &plan.toolpaths[k]);
+      if (auto s = io::write_file_atomic(name, text, io::Durability::kAtomic); !s) return report_error(s.error());
+    }
+  }
   if (warnings > 0) std::fprintf(stderr, "polyaxis: %zu warnings\n", warnings);
   if (o.json) {
     std::fputs(report_text.c_str(), stdout);
@@ -154,6 +182,8 @@ Runner add_plan_command(CLI::App& app) {
       ->capture_default_str()->check(CLI::Range(1e-4, 1.0));
   cmd->add_option("--threads", o->plan.threads, "Worker threads (0: all cores)");
   cmd->add_flag("--json", o->json, "Print report.json instead of one line");
+  cmd->add_flag("--svg", o->svg, "Also write one SVG per layer (contours, paths, seams): DIR/layer_NNNNN.svg");
+  cmd->add_flag("!--no-html", o->html, "Do not write report.html");
   return [o] { return run_plan(*o); };
 }
 

@@ -9,7 +9,7 @@
 #include "config_options.h"
 #include "polyaxis/io/text_file.h"
 #include "polyaxis/machine/simulate.h"
-#include "polyaxis/report/plan_files.h"
+#include "polyaxis/report/plan_view.h"
 
 namespace polyaxis::app {
 namespace {

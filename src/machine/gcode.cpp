@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "polyaxis/core/progress.h"
 #include "polyaxis/io/write_file.h"
 #include "polyaxis/motion/kinematics.h"
 #include "polyaxis/motion/segment.h"
@@ -181,7 +182,9 @@ core::Result<std::string> write_gcode(const motion::MachineConfig& machine, cons
 
   bool process_on = false;
   MachinePose prev{};
+  core::Progress progress("G-code", points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
+    if ((i & 4095) == 0) progress.update(i);
     const ProgramPoint& pt = points[i];
     if (!core::is_finite(pt.tip_part_mm) || !core::is_finite(pt.tool_axis_part) || !std::isfinite(pt.feed_mm_s) ||
         !(norm(pt.tool_axis_part) > 0.0) || !(pt.feed_mm_s > 0.0)) {

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <optional>
 
+#include "polyaxis/core/progress.h"
 #include "polyaxis/motion/kinematics.h"
 #include "polyaxis/motion/segment.h"
 
@@ -187,7 +188,9 @@ core::Result<SimulationReport> simulate(const motion::MachineConfig& m, std::str
 
   std::uint64_t line_no = 0;
   std::size_t at = 0;
+  core::Progress progress("simulate", gcode.size());  // bytes read
   while (at <= gcode.size() && !rep.program_end) {
+    if ((line_no & 4095) == 0) progress.update(std::min(at, gcode.size()));
     const std::size_t nl = gcode.find('\n', at);
     const std::string_view line = gcode.substr(at, nl == std::string_view::npos ? std::string_view::npos : nl - at);
     at = nl == std::string_view::npos ? gcode.size() + 1 : nl + 1;

@@ -7,6 +7,7 @@
 #include <map>
 #include <cmath>
 
+#include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/mesh/properties.h"
 
@@ -26,9 +27,10 @@ double angle_deg(Vec3 a, Vec3 b) {
 
 
 
-// The unsupported area of layer K over layer K−1 (see PlanOptions' comment in plan.h).
+// The unsupported area of layer K over layer K−1 (see PlanOptions' comment in plan.h); the
+// unsupported pieces are appended to PIECES.
 double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer, const toolpath::LayerToolpaths& paths,
-                        double alpha_deg, double bead_mm) {
+                        double alpha_deg, double bead_mm, std::vector<geom2d::Polygon>& pieces) {
   const double t = layer.height_mm - below.height_mm;  // centre to centre: what the new layer hangs over
   const double base_grow = t * std::tan(alpha_deg * kPi / 180.0);
   const auto overhang = geom2d::difference_rings(geom2d::rings_of(layer.polygons), geom2d::rings_of(geom2d::offset(below.polygons, base_grow)));
@@ -53,6 +55,7 @@ double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer
     }
     if (tilt <= 0.0) {
       total += piece_area;
+      pieces.push_back(piece);
       continue;
     }
     const int key = static_cast<int>(std::floor(std::min(alpha_deg + tilt, kMaxSupportAngleDeg) * 10.0));  // rounded down: conservative
@@ -60,7 +63,9 @@ double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer
     if (it == grown_by_angle.end()) {
       it = grown_by_angle.emplace(key, geom2d::rings_of(geom2d::offset(below.polygons, t * std::tan(key / 10.0 * kPi / 180.0)))).first;
     }
-    total += geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of({piece}), it->second));
+    std::vector<geom2d::Polygon> left = geom2d::difference_rings(geom2d::rings_of({piece}), it->second);
+    total += geom2d::area_mm2(left);
+    pieces.insert(pieces.end(), left.begin(), left.end());
   }
   return total;
 }
@@ -82,11 +87,19 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   centre = centre - d * core::dot(centre, d);  // the centre's part across d
   plan.placement_mm = Vec3{} - centre - d * lowest;
   std::vector<PlanRegion> regions = given_regions;
-  if (regions.empty()) regions.push_back(PlanRegion{0, part.mesh, d});
+  if (regions.empty()) {
+    PlanRegion whole;
+    whole.mesh = part.mesh;
+    whole.direction = d;
+    whole.base_point = centre + d * lowest;  // the middle of the footprint, on the table
+    regions.push_back(std::move(whole));
+  }
   for (PlanRegion& r : regions) {
     for (Vec3& v : r.mesh.vertices) v = v + plan.placement_mm;
+    r.base_point = r.base_point + plan.placement_mm;
   }
   plan.regions = static_cast<std::uint32_t>(regions.size());
+  plan.placed_regions = regions;
 
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
@@ -185,7 +198,9 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   // Support, layer by layer (layer 0 rests on the table).
   const auto& ls = plan.layers.layers;
   plan.layer_reports.resize(ls.size());
+  core::Progress progress("support", ls.size());
   for (std::size_t k = 0; k < ls.size(); ++k) {
+    progress.update(k);
     LayerReport& r = plan.layer_reports[k];
     r.index = ls[k].index;
     r.region = plan.region_of_layer[k];
@@ -202,8 +217,9 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     }
     // A region's first layer rests on its parent region or on the plate.
     if (k > 0 && plan.region_of_layer[k - 1] == r.region) {
-      r.unsupported_area_mm2 = unsupported_area(ls[k - 1], ls[k], lt, process.self_supporting_deg, process.bead_width_mm);
-      if (r.unsupported_area_mm2 < kUnsupportedNoiseMm2) r.unsupported_area_mm2 = 0.0;
+      r.unsupported_area_mm2 =
+          unsupported_area(ls[k - 1], ls[k], lt, process.self_supporting_deg, process.bead_width_mm, r.unsupported);
+      if (r.unsupported_area_mm2 < kUnsupportedNoiseMm2) r.unsupported_area_mm2 = 0.0, r.unsupported.clear();
     }
     plan.unsupported_area_mm2 += r.unsupported_area_mm2;
   }

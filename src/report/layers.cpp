@@ -110,7 +110,7 @@ std::string layers_json(const slicing::SliceResult& result, const LayersMeta& me
   return out;
 }
 
-std::string layer_svg(const slicing::Layer& layer) {
+std::string layer_svg(const slicing::Layer& layer, const toolpath::LayerToolpaths* paths) {
   std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = std::numeric_limits<std::int64_t>::min(), y1 = x1;
   for (const auto& p : layer.polygons) {
     for (const auto& q : p.outer) x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
@@ -136,7 +136,37 @@ std::string layer_svg(const slicing::Layer& layer) {
     for (const auto& hole : p.holes) ring(hole);
     out += "\"/>\n";
   }
-  out += "</g>\n</svg>\n";
+  out += "</g>\n";
+  if (paths != nullptr) {
+    // Paths in the layer's (u, v) frame: perimeters dark red, fill orange, travel dashed grey; a
+    // dot at each closed path's seam (its first point).
+    auto uv = [&](core::Vec3 p) {
+      const core::Vec3 rel = p - layer.frame.origin;
+      return std::pair{core::dot(rel, layer.frame.u), core::dot(rel, layer.frame.v)};
+    };
+    out += "<g transform=\"scale(1,-1)\" fill=\"none\" stroke-width=\"0.15\" stroke-linejoin=\"round\">\n";
+    for (const toolpath::Path& path : paths->paths) {
+      if (path.points.size() < 2) continue;
+      const char* style = path.kind == toolpath::PathKind::kPerimeter ? "stroke=\"#8b1a1a\""
+                          : path.kind == toolpath::PathKind::kFill    ? "stroke=\"#e08a00\""
+                                                                      : "stroke=\"#888\" stroke-dasharray=\"0.5 0.5\"";
+      fmt::format_to(std::back_inserter(out), "<polyline {} points=\"", style);
+      for (const toolpath::PathPoint& p : path.points) {
+        const auto [u, v] = uv(p.position_mm);
+        fmt::format_to(std::back_inserter(out), "{:.4f},{:.4f} ", u, v);
+      }
+      out += "\"/>\n";
+    }
+    for (const toolpath::Path& path : paths->paths) {
+      const bool closed = path.points.size() > 2 && path.kind != toolpath::PathKind::kTravel &&
+                          core::norm(path.points.front().position_mm - path.points.back().position_mm) < 1e-9;
+      if (!closed) continue;
+      const auto [u, v] = uv(path.points.front().position_mm);
+      fmt::format_to(std::back_inserter(out), "<circle class=\"seam\" cx=\"{:.4f}\" cy=\"{:.4f}\" r=\"0.3\" fill=\"#0a7d2c\"/>\n", u, v);
+    }
+    out += "</g>\n";
+  }
+  out += "</svg>\n";
   return out;
 }
 

@@ -10,7 +10,6 @@ namespace {
 
 using nlohmann::ordered_json;
 
-ordered_json vec(core::Vec3 v) { return ordered_json::array({v.x, v.y, v.z}); }
 
 }  // namespace
 
@@ -49,67 +48,6 @@ std::string report_json(const planner::Plan& plan, const machine::SimulationRepo
                       {"tilt", {sim.a_or_b_deg.empty() ? 0.0 : sim.a_or_b_deg.min, sim.a_or_b_deg.empty() ? 0.0 : sim.a_or_b_deg.max}},
                       {"c", {sim.c_deg.empty() ? 0.0 : sim.c_deg.min, sim.c_deg.empty() ? 0.0 : sim.c_deg.max}}};
   return j.dump(2) + "\n";
-}
-
-std::string plan_json(const planner::Plan& plan, const PlanMeta& meta) {
-  std::string out;
-  ordered_json head;
-  head["part"] = meta.part;
-  head["machine"] = meta.machine;
-  head["process"] = meta.process;
-  head["placement_mm"] = vec(plan.placement_mm);
-  ordered_json layers = ordered_json::array();
-  for (std::size_t k = 0; k < plan.layers.layers.size(); ++k) {
-    const auto& l = plan.layers.layers[k];
-    const auto& r = plan.layer_reports[k];
-    layers.push_back({{"index", l.index},
-                      {"region", r.region},
-                      {"origin", vec(l.frame.origin)},
-                      {"normal", vec(l.frame.d)},
-                      {"thickness_mm", l.thickness_mm()},
-                      {"area_mm2", l.area_mm2},
-                      {"unsupported_area_mm2", r.unsupported_area_mm2},
-                      {"max_tilt_deg", r.max_tilt_deg},
-                      {"paths", r.paths}});
-  }
-  head["layers"] = layers;
-  out = head.dump();
-  out.pop_back();  // the closing brace: the program follows
-  out += ",\n\"program\":[\n";
-  for (std::size_t i = 0; i < plan.program.size(); ++i) {
-    const machine::ProgramPoint& p = plan.program[i];
-    fmt::format_to(std::back_inserter(out), "{}[{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.9f},{:.6g},{},{},{}]", i ? ",\n" : "",
-                   p.tip_part_mm.x, p.tip_part_mm.y, p.tip_part_mm.z, p.tool_axis_part.x, p.tool_axis_part.y, p.tool_axis_part.z,
-                   p.feed_mm_s, p.process_on ? 1 : 0, p.layer, p.region);
-  }
-  out += "\n]}\n";
-  return out;
-}
-
-core::Result<std::vector<machine::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source) {
-  std::vector<machine::ProgramPoint> program;
-  try {
-    const auto doc = nlohmann::json::parse(json);
-    const auto& arr = doc.at("program");
-    program.reserve(arr.size());
-    for (const auto& row : arr) {
-      if (!row.is_array() || row.size() != 10) throw std::runtime_error("a program row is not 10 numbers");
-      machine::ProgramPoint p;
-      p.tip_part_mm = {row[0].get<double>(), row[1].get<double>(), row[2].get<double>()};
-      p.tool_axis_part = {row[3].get<double>(), row[4].get<double>(), row[5].get<double>()};
-      p.feed_mm_s = row[6].get<double>();
-      p.process_on = row[7].get<int>() != 0;
-      p.layer = row[8].get<std::uint32_t>();
-      p.region = row[9].get<std::uint32_t>();
-      if (!core::is_finite(p.tip_part_mm) || !core::is_finite(p.tool_axis_part) || !std::isfinite(p.feed_mm_s)) {
-        throw std::runtime_error("a program row is not finite");
-      }
-      program.push_back(std::move(p));
-    }
-  } catch (const std::exception& e) {
-    return core::make_error(core::ErrorCode::kInvalidInput, fmt::format("{}: not a polyaxis plan: {}", source, e.what()));
-  }
-  return program;
 }
 
 }  // namespace polyaxis::report

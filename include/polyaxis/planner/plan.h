@@ -4,10 +4,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "polyaxis/core/result.h"
+#include "polyaxis/geom2d/polygon.h"
 #include "polyaxis/machine/program.h"
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/motion/machine.h"
@@ -37,6 +39,11 @@ struct PlanRegion {
   std::uint32_t id = 0;
   mesh::Mesh mesh;          // closed, in the part's frame (before placement)
   Vec3 direction{0, 0, 1};  // build direction
+  // For the report: the parent region (none for the root), a point of the base surface, and
+  // whether the region is support-free in its own direction (analysis::Region's fields).
+  std::optional<std::uint32_t> parent;
+  Vec3 base_point;
+  bool support_free = true;
 };
 
 struct LayerReport {
@@ -48,6 +55,8 @@ struct LayerReport {
   double unsupported_area_mm2 = 0.0;
   double max_tilt_deg = 0.0;
   std::uint32_t paths = 0;
+  // The pieces counted in unsupported_area_mm2, in the layer's (u, v) frame.
+  std::vector<geom2d::Polygon> unsupported;
 };
 
 // Wall-clock seconds of each stage of make_plan.
@@ -66,6 +75,8 @@ struct Plan {
   std::vector<LayerReport> layer_reports;
   std::vector<std::uint32_t> region_of_layer;  // region id of each layer
   std::uint32_t regions = 1;
+  // The regions as built, placed (the whole part as region 0 when no regions were given).
+  std::vector<PlanRegion> placed_regions;
   Vec3 placement_mm;          // translation applied to the part: centred on the table, base at 0
   double deposit_length_mm = 0.0;
   double travel_length_mm = 0.0;

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "polyaxis/slicing/slice.h"
+#include "polyaxis/toolpath/toolpath.h"
 
 namespace polyaxis::report {
 
@@ -22,7 +23,9 @@ std::string layers_json(const slicing::SliceResult& result, const LayersMeta& me
 // volume_estimate_mm3, min/max thickness, open_chains, limit_violations.
 std::string slice_summary_json(const slicing::SliceResult& result, const LayersMeta& meta);
 
-// One layer as a standalone SVG (mm units, +v up): outer loops filled, holes cut out.
-std::string layer_svg(const slicing::Layer& layer);
+// One layer as a standalone SVG (mm units, +v up): outer loops filled, holes cut out. With PATHS
+// (the layer's toolpaths), also the paths (perimeters, fill, travel) and a dot at every closed
+// path's seam.
+std::string layer_svg(const slicing::Layer& layer, const toolpath::LayerToolpaths* paths = nullptr);
 
 }  // namespace polyaxis::report

@@ -1,4 +1,4 @@
-// plan.json and report.json, the files `polyaxis plan` writes beside the G-code.
+// report.json, the metrics `polyaxis plan` writes beside the G-code (plan.json: plan_view.h).
 #pragma once
 
 #include <span>
@@ -25,13 +25,5 @@ struct PlanMeta {
 // report.json: the metrics of SPEC §3 (schema in docs/plan.md). SIM is the simulation of the
 // written G-code (build time and path length come from it).
 std::string report_json(const planner::Plan& plan, const machine::SimulationReport& sim, const PlanMeta& meta);
-
-// plan.json: everything else — placement, layers (plane, thickness, area, unsupported area) and
-// the program points [x, y, z, i, j, k, feed_mm_s, on, layer, region] in the part frame.
-std::string plan_json(const planner::Plan& plan, const PlanMeta& meta);
-
-// The program points of a plan.json (for `polyaxis simulate --plan`). kInvalidInput on anything
-// malformed.
-core::Result<std::vector<machine::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source);
 
 }  // namespace polyaxis::report

@@ -1,0 +1,80 @@
+// What an engineer looks at in a plan (SPEC §2.10): the regions, the centroidal axis, the layers
+// with their contours and unsupported pieces, the program, and the machine's rotary angles per
+// layer. plan.json is this structure written out (plan_files.h); report.html shows it
+// (report_html.h). Everything is in the placed frame: the rotary table's frame, Z up.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "polyaxis/analysis/centroidal_axis.h"
+#include "polyaxis/core/result.h"
+#include "polyaxis/machine/program.h"
+#include "polyaxis/motion/machine.h"
+#include "polyaxis/motion/process.h"
+#include "polyaxis/planner/plan.h"
+
+namespace polyaxis::report {
+
+using core::Vec3;
+
+struct ViewLayer {
+  std::uint32_t index = 0;
+  std::uint32_t region = 0;
+  Vec3 origin, u{1, 0, 0}, v{0, 1, 0}, normal{0, 0, 1};
+  double thickness_mm = 0.0;
+  double area_mm2 = 0.0;
+  double unsupported_area_mm2 = 0.0;
+  double max_tilt_deg = 0.0;
+  std::uint32_t paths = 0;
+  // Machine rotary positions over the layer's program points, degrees (0 on 3-axis machines).
+  std::array<double, 2> tilt_deg{0.0, 0.0};
+  std::array<double, 2> c_deg{0.0, 0.0};
+  std::vector<std::vector<Vec3>> contours;     // closed rings (last point != first), outer and holes
+  std::vector<std::vector<Vec3>> unsupported;  // the unsupported pieces' rings
+};
+
+struct ViewAxis {
+  std::vector<Vec3> nodes;
+  std::vector<std::array<std::uint32_t, 3>> links;  // from, to, is_break (0 or 1)
+};
+
+struct PlanView {
+  std::string part;         // the part file, as given
+  std::string machine;      // machine name
+  std::string kinematics;   // motion::kinematics_name
+  std::string tilt_axis;    // "A", "B" or "" (3-axis)
+  std::string process;      // process name
+  double bead_width_mm = 0.0;
+  Vec3 placement_mm;
+  std::string metrics_json;  // report.json's object (report_json output)
+  std::vector<planner::PlanRegion> regions;  // placed
+  std::optional<ViewAxis> axis;              // placed; with --decompose
+  std::vector<ViewLayer> layers;
+  std::vector<machine::ProgramPoint> program;
+};
+
+// The view of PLAN. AXIS (part frame, before placement) may be null. METRICS_JSON is report.json.
+// The rotary ranges come from inverse kinematics along the program, as the G-code writer runs it.
+PlanView make_plan_view(const planner::Plan& plan, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
+                        const analysis::CentroidalAxis* axis, std::string part, std::string metrics_json);
+
+// METRICS_JSON as a JSON object indented by 2, keys in their order ("{}" when it is not an object).
+std::string metrics_object(std::string_view metrics_json);
+
+// plan.json (schema in docs/plan.md). Deterministic.
+std::string plan_view_json(const PlanView& view);
+
+// Reads plan.json back. kInvalidInput naming SOURCE on anything malformed (a missing key, a
+// non-finite number, an index out of range).
+core::Result<PlanView> read_plan_view(std::string_view json, const std::string& source);
+
+// The program points of a plan.json (for `polyaxis simulate --plan`). kInvalidInput on anything
+// malformed.
+core::Result<std::vector<machine::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source);
+
+}  // namespace polyaxis::report

@@ -1,0 +1,185 @@
+#include "polyaxis/report/report_html.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <cstdint>
+#include <cstring>
+#include <iterator>
+#include <nlohmann/json.hpp>
+
+#include "polyaxis/mesh/properties.h"
+
+namespace polyaxis::report {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the viewer reads little-endian typed arrays");
+
+// Base64 of the bytes of a typed array (the viewer decodes it into the same typed array).
+template <typename T>
+std::string base64(const std::vector<T>& values) {
+  static constexpr char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
+  const std::size_t n = values.size() * sizeof(T);
+  std::string out;
+  out.reserve((n + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < n; i += 3) {
+    const std::uint32_t w = (std::uint32_t{bytes[i]} << 16) | (std::uint32_t{bytes[i + 1]} << 8) | bytes[i + 2];
+    out += kDigits[w >> 18], out += kDigits[(w >> 12) & 63], out += kDigits[(w >> 6) & 63], out += kDigits[w & 63];
+  }
+  if (i < n) {
+    const std::uint32_t w = (std::uint32_t{bytes[i]} << 16) | (i + 1 < n ? std::uint32_t{bytes[i + 1]} << 8 : 0u);
+    out += kDigits[w >> 18], out += kDigits[(w >> 12) & 63];
+    out += i + 1 < n ? kDigits[(w >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+void push(std::vector<float>& out, Vec3 v) {
+  out.push_back(static_cast<float>(v.x)), out.push_back(static_cast<float>(v.y)), out.push_back(static_cast<float>(v.z));
+}
+
+std::string vec(Vec3 v) { return fmt::format("[{:.6g},{:.6g},{:.6g}]", v.x, v.y, v.z); }
+
+// Rings as one flat float array and the index of each ring's first point.
+std::string rings_fields(const std::vector<std::vector<Vec3>>& rings, const char* name, const char* starts_name) {
+  std::vector<float> points;
+  std::vector<std::size_t> starts;
+  for (const auto& ring : rings) {
+    starts.push_back(points.size() / 3);
+    for (const Vec3& p : ring) push(points, p);
+  }
+  return fmt::format("\"{}\":\"{}\",\"{}\":[{}]", name, base64(points), starts_name, fmt::join(starts, ","));
+}
+
+// The program points kept for the page: all of them up to MAX_POINTS; beyond, every k-th point of
+// each run of deposit or travel moves, with the run's last point and every layer's first and last.
+std::vector<std::size_t> kept_points(const std::vector<machine::ProgramPoint>& program, std::size_t max_points) {
+  std::vector<std::size_t> kept;
+  const std::size_t n = program.size();
+  const std::size_t stride = max_points == 0 || n <= max_points ? 1 : (n + max_points - 1) / max_points;
+  std::size_t since = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool run_end = i + 1 == n || program[i + 1].process_on != program[i].process_on || program[i + 1].layer != program[i].layer;
+    const bool run_start = i == 0 || program[i - 1].process_on != program[i].process_on || program[i - 1].layer != program[i].layer;
+    if (stride == 1 || run_start || run_end || ++since >= stride) {
+      kept.push_back(i);
+      since = 0;
+    }
+  }
+  return kept;
+}
+
+}  // namespace
+
+std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
+  std::string out = "{\"format\":\"polyaxis-view/1\",\"title\":";
+  out += nlohmann::json(view.part).dump();
+  out += ",\"metrics\":";
+  out += metrics_object(view.metrics_json);
+  fmt::format_to(std::back_inserter(out), ",\"machine\":{{\"name\":{},\"kinematics\":{},\"tilt_axis\":{}}},\"bead_width_mm\":{:.6g}",
+                 nlohmann::json(view.machine).dump(), nlohmann::json(view.kinematics).dump(), nlohmann::json(view.tilt_axis).dump(),
+                 view.bead_width_mm);
+  out += ",\"regions\":[";
+  for (std::size_t i = 0; i < view.regions.size(); ++i) {
+    const planner::PlanRegion& r = view.regions[i];
+    std::vector<float> positions;
+    positions.reserve(3 * r.mesh.vertices.size());
+    for (const Vec3& v : r.mesh.vertices) push(positions, v);
+    std::vector<std::uint32_t> indices;
+    indices.reserve(3 * r.mesh.triangles.size());
+    for (const auto& t : r.mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
+    fmt::format_to(std::back_inserter(out),
+                   "{}{{\"id\":{},\"parent\":{},\"build_direction\":{},\"base_point\":{},\"volume_mm3\":{:.6g},\"support_free\":{},"
+                   "\"positions\":\"{}\",\"indices\":\"{}\"}}",
+                   i ? "," : "", r.id, r.parent ? fmt::to_string(*r.parent) : std::string("null"), vec(core::normalized(r.direction)),
+                   vec(r.base_point), mesh::signed_volume(r.mesh), r.support_free, base64(positions), base64(indices));
+  }
+  out += "],\"axis\":";
+  if (!view.axis) {
+    out += "null";
+  } else {
+    out += "{\"nodes\":[";
+    for (std::size_t i = 0; i < view.axis->nodes.size(); ++i) out += (i ? "," : "") + vec(view.axis->nodes[i]);
+    out += "],\"links\":[";
+    for (std::size_t i = 0; i < view.axis->links.size(); ++i) {
+      const auto& l = view.axis->links[i];
+      fmt::format_to(std::back_inserter(out), "{}[{},{},{}]", i ? "," : "", l[0], l[1], l[2]);
+    }
+    out += "]}";
+  }
+
+  // The toolpath: kept points, in program order (layers are contiguous and in build order).
+  const std::vector<std::size_t> kept = kept_points(view.program, options.max_points);
+  std::vector<float> points, axes;
+  std::vector<std::uint8_t> flags;
+  std::vector<std::uint16_t> regions;
+  points.reserve(3 * kept.size()), axes.reserve(3 * kept.size()), flags.reserve(kept.size()), regions.reserve(kept.size());
+  std::vector<std::size_t> first(view.layers.size(), 0), count(view.layers.size(), 0);
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const machine::ProgramPoint& p = view.program[kept[k]];
+    push(points, p.tip_part_mm);
+    push(axes, core::normalized(p.tool_axis_part));
+    flags.push_back(static_cast<std::uint8_t>((p.process_on ? 1 : 0) | (k == 0 ? 2 : 0)));
+    regions.push_back(static_cast<std::uint16_t>(std::min<std::uint32_t>(p.region, 0xffff)));
+    if (p.layer < view.layers.size()) {
+      if (count[p.layer] == 0) first[p.layer] = k;
+      ++count[p.layer];
+    }
+  }
+  out += ",\"layers\":[";
+  for (std::size_t k = 0; k < view.layers.size(); ++k) {
+    const ViewLayer& l = view.layers[k];
+    fmt::format_to(std::back_inserter(out),
+                   "{}\n{{\"index\":{},\"region\":{},\"origin\":{},\"normal\":{},\"thickness_mm\":{:.6g},\"area_mm2\":{:.6g},"
+                   "\"unsupported_area_mm2\":{:.6g},\"max_tilt_deg\":{:.6g},\"tilt_deg\":[{:.6g},{:.6g}],\"c_deg\":[{:.6g},{:.6g}],{},{},"
+                   "\"path_first\":{},\"path_count\":{}}}",
+                   k ? "," : "", l.index, l.region, vec(l.origin), vec(l.normal), l.thickness_mm, l.area_mm2, l.unsupported_area_mm2,
+                   l.max_tilt_deg, l.tilt_deg[0], l.tilt_deg[1], l.c_deg[0], l.c_deg[1], rings_fields(l.contours, "contours", "contour_starts"),
+                   rings_fields(l.unsupported, "unsupported", "unsupported_starts"), first[k], count[k]);
+  }
+  fmt::format_to(std::back_inserter(out),
+                 "],\n\"toolpath\":{{\"points\":\"{}\",\"axes\":\"{}\",\"flags\":\"{}\",\"region\":\"{}\",\"total_points\":{},"
+                 "\"shown_points\":{}}},\"collisions\":[]}}",
+                 base64(points), base64(axes), base64(flags), base64(regions), view.program.size(), kept.size());
+  return out;
+}
+
+std::string report_html(const PlanView& view, std::string_view bundle, const HtmlOptions& options) {
+  // Neither the data nor the script may close the <script> element it sits in. In the JSON every
+  // "</" becomes "<\\/" (the same string to a JSON reader); in the script only "</script", which
+  // can appear only inside a string or a regular expression, where "<\\/script" means the same.
+  auto escaped = [](std::string_view text, bool only_script_tags) {
+    std::string out;
+    out.reserve(text.size());
+    for (std::size_t i = 0; i < text.size(); ++i) {
+      out += text[i];
+      if (text[i] != '<' || i + 1 >= text.size() || text[i + 1] != '/') continue;
+      if (only_script_tags) {
+        std::string next(text.substr(i + 2, 6));
+        std::transform(next.begin(), next.end(), next.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        if (next != "script") continue;
+      }
+      out += '\\';
+    }
+    return out;
+  };
+  std::string title = view.part.substr(view.part.find_last_of('/') == std::string::npos ? 0 : view.part.find_last_of('/') + 1);
+  std::string safe_title;
+  for (char c : title) safe_title += c == '<' ? std::string("&lt;") : c == '&' ? std::string("&amp;") : std::string(1, c);
+  std::string out =
+      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" "
+      "content=\"width=device-width,initial-scale=1\">\n<title>polyaxis — " +
+      safe_title + "</title></head>\n<body>\n<script type=\"application/json\" id=\"polyaxis-data\">";
+  out += escaped(view_data_json(view, options), false);
+  out += "</script>\n<script>";
+  out += escaped(bundle, true);
+  out += "</script>\n</body></html>\n";
+  return out;
+}
+
+}  // namespace polyaxis::report

@@ -1,0 +1,168 @@
+// Opens a polyaxis report.html in headless Chromium (SwiftShader WebGL) and checks the viewer.
+// Usage: node test/browser_test.mjs REPORT_HTML [--screenshot OUT.png [--layer K]] [--timeout SECONDS]
+// Fails (exit 1) on any console error, page error or failed request, on a blank canvas, or when moving
+// the layer slider from the last to the first layer does not change the picture. Ends within the timeout.
+import { chromium } from 'playwright-core';
+import { existsSync } from 'node:fs';
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+const args = process.argv.slice(2);
+const opt = (name) => { const i = args.indexOf(name); return i >= 0 ? args[i + 1] : undefined; };
+const report = args.find((a, i) => !a.startsWith('--') && !['--screenshot', '--timeout', '--layer'].includes(args[i - 1]));
+const screenshot = opt('--screenshot');
+const shotLayer = opt('--layer');
+const timeoutS = Number(opt('--timeout') || 60);
+const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
+const MIN_FRACTION = 0.01; // non-background pixels required, share of the canvas
+const MIN_CHANGED = 200; // pixels that must change between the last and the first layer
+
+if (!report) {
+  console.error('usage: node test/browser_test.mjs REPORT_HTML [--screenshot OUT.png [--layer K]] [--timeout SECONDS]');
+  process.exit(2);
+}
+const reportPath = path.resolve(report);
+const name = path.basename(path.dirname(reportPath)) + '/' + path.basename(reportPath);
+if (!existsSync(reportPath)) {
+  console.error(`FAIL ${name}: no such file ${reportPath}`);
+  process.exit(1);
+}
+if (!existsSync(CHROMIUM)) {
+  console.error(`FAIL ${name}: no browser at ${CHROMIUM} (set CHROMIUM=...)`);
+  process.exit(1);
+}
+
+const t0 = Date.now();
+const elapsed = () => ((Date.now() - t0) / 1000).toFixed(2);
+let browser = null;
+const problems = [];
+
+async function finish(code, line) {
+  (code === 0 ? console.log : console.error)(line);
+  if (browser) await Promise.race([browser.close().catch(() => {}), new Promise((r) => setTimeout(r, 5000))]);
+  process.exit(code); // playwright kills a browser that is still running when node exits
+}
+
+const watchdog = setTimeout(() => {
+  finish(1, `FAIL ${name}: timeout after ${timeoutS} s${problems.length ? `; ${problems.join('; ')}` : ''}`);
+}, timeoutS * 1000);
+watchdog.unref();
+
+// Counts non-background pixels of the WebGL canvas and hashes the picture (runs in the page).
+function measureCanvas() {
+  const v = window.polyaxisViewer;
+  v.renderNow();
+  const c = document.querySelector('canvas.px-canvas');
+  const t = document.createElement('canvas');
+  t.width = c.width;
+  t.height = c.height;
+  const ctx = t.getContext('2d', { willReadFrequently: true });
+  ctx.drawImage(c, 0, 0);
+  const d = ctx.getImageData(0, 0, t.width, t.height).data;
+  const [br, bg, bb] = v.background;
+  let count = 0;
+  let h = 2166136261;
+  const mask = new Uint8Array(t.width * t.height);
+  for (let i = 0, p = 0; i < d.length; i += 4, p++) {
+    if (Math.abs(d[i] - br) > 6 || Math.abs(d[i + 1] - bg) > 6 || Math.abs(d[i + 2] - bb) > 6) { count++; mask[p] = 1; }
+    h = Math.imul(h ^ d[i], 16777619) ^ d[i + 1];
+    h = Math.imul(h ^ d[i + 2], 16777619);
+  }
+  window.__pxLast = window.__pxCur;
+  window.__pxCur = d;
+  let changed = 0;
+  if (window.__pxLast && window.__pxLast.length === d.length) {
+    const a = window.__pxLast;
+    for (let i = 0; i < d.length; i += 4) {
+      if (Math.abs(a[i] - d[i]) + Math.abs(a[i + 1] - d[i + 1]) + Math.abs(a[i + 2] - d[i + 2]) > 12) changed++;
+    }
+  }
+  return { width: t.width, height: t.height, count, hash: (h >>> 0).toString(16), changed };
+}
+
+try {
+  browser = await chromium.launch({
+    executablePath: CHROMIUM,
+    headless: true,
+    timeout: 30000,
+    args: [
+      '--no-sandbox', '--headless=new', '--use-gl=swiftshader', '--enable-unsafe-swiftshader', '--disable-gpu',
+      '--disable-background-networking', '--no-first-run', '--disable-component-update', '--disable-sync',
+    ],
+    // playwright gives the browser a fresh temporary --user-data-dir of its own
+  });
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console error: ${m.text()}`); });
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  page.on('requestfailed', (r) => problems.push(`request failed: ${r.url().slice(0, 200)} (${r.failure()?.errorText})`));
+  page.on('crash', () => problems.push('page crashed'));
+  page.on('request', (r) => {
+    if (!r.url().startsWith('file:') && !r.url().startsWith('data:')) problems.push(`network request: ${r.url().slice(0, 200)}`);
+  });
+
+  const tNav = Date.now();
+  await page.goto(pathToFileURL(reportPath).href, { waitUntil: 'load', timeout: timeoutS * 1000 });
+  // wait for data-ready, or stop at the first error
+  const deadline = t0 + timeoutS * 1000 - 5000;
+  while (true) {
+    if (problems.length) await finish(1, `FAIL ${name}: ${problems.join('; ')}`);
+    const state = await page.evaluate(() => [document.body.dataset.ready, document.body.dataset.error]);
+    if (state[0] === '1') break;
+    if (state[1] === '1') {
+      const msg = await page.evaluate(() => document.getElementById('px-error')?.textContent);
+      await finish(1, `FAIL ${name}: ${msg}`);
+    }
+    if (Date.now() > deadline) await finish(1, `FAIL ${name}: viewer not ready (no data-ready) after ${elapsed()} s`);
+    await new Promise((r) => setTimeout(r, 50));
+  }
+  const loadS = ((Date.now() - tNav) / 1000).toFixed(2);
+  const info = await page.evaluate(() => {
+    const v = window.polyaxisViewer;
+    return { layers: v.layerCount, current: v.currentLayer, loadMs: v.loadMs, stats: v.stats };
+  });
+  const first = await page.evaluate(measureCanvas);
+  const total = first.width * first.height;
+  const fraction = first.count / total;
+  console.log(`loaded in ${loadS} s (viewer init ${info.loadMs.toFixed(0)} ms, decode ${info.stats.decodeMs.toFixed(0)} ms); `
+    + `${info.layers} layers; ${info.stats.depositSegments} deposit + ${info.stats.travelSegments} travel segments, `
+    + `${info.stats.glyphs} glyphs (stride ${info.stats.glyphStride})`);
+  console.log(`layer ${info.current}: ${first.count} non-background pixels of ${total} (${(100 * fraction).toFixed(1)} %), hash ${first.hash}`);
+  if (fraction < MIN_FRACTION) await finish(1, `FAIL ${name}: canvas nearly blank (${first.count} px)`);
+
+  let changeNote = 'no layers';
+  if (info.layers > 0) {
+    // move the slider like a user: set the value and dispatch 'input'
+    const tStep = Date.now();
+    const now = await page.evaluate(() => {
+      const s = document.getElementById('layer-slider');
+      s.value = '0';
+      s.dispatchEvent(new Event('input', { bubbles: true }));
+      return window.polyaxisViewer.currentLayer;
+    });
+    if (now !== 0) await finish(1, `FAIL ${name}: slider moved to 0 but currentLayer is ${now}`);
+    const second = await page.evaluate(measureCanvas);
+    const stepMs = Date.now() - tStep;
+    const panelText = await page.evaluate(() => document.getElementById('px-layer-no').textContent);
+    console.log(`layer 0: ${second.count} non-background pixels, hash ${second.hash}; ${second.changed} pixels changed `
+      + `(slider step + render ${stepMs} ms, panel "${panelText}")`);
+    if (second.changed < MIN_CHANGED && info.layers > 1) {
+      await finish(1, `FAIL ${name}: the picture did not change from the last to the first layer (${second.changed} px)`);
+    }
+    // keyboard steps forward again
+    await page.keyboard.press('ArrowRight');
+    const afterKey = await page.evaluate(() => window.polyaxisViewer.currentLayer);
+    if (info.layers > 1 && afterKey !== 1) await finish(1, `FAIL ${name}: ArrowRight gave layer ${afterKey}, expected 1`);
+    changeNote = `slider last→first changed ${second.changed} px`;
+  }
+  if (screenshot) {
+    // the whole plan (last layer) unless --layer K asks for another one
+    const k = shotLayer === undefined ? info.layers - 1 : Number(shotLayer);
+    await page.evaluate((i) => window.polyaxisViewer.setLayer(i), k);
+    await page.screenshot({ path: screenshot });
+  }
+  if (problems.length) await finish(1, `FAIL ${name}: ${problems.join('; ')}`);
+  await finish(0, `PASS ${name}: ready in ${loadS} s, ${info.layers} layers, ${first.count} px drawn `
+    + `(${(100 * fraction).toFixed(1)} %), ${changeNote}, total ${elapsed()} s${screenshot ? `, screenshot ${screenshot}` : ''}`);
+} catch (e) {
+  await finish(1, `FAIL ${name}: ${e.message.split('\n')[0]}${problems.length ? `; ${problems.join('; ')}` : ''}`);
+}
