@@ -14,6 +14,7 @@
 #include "part_options.h"
 #include "polyaxis/analysis/centroidal_axis.h"
 #include "polyaxis/analysis/decompose.h"
+#include "polyaxis/core/progress.h"
 #include "polyaxis/io/write_file.h"
 #include "polyaxis/machine/gcode.h"
 #include "polyaxis/machine/simulate.h"
@@ -134,21 +135,28 @@ int run_plan(PlanCommandOptions& o) {
                               gcode_s, simulate_s};
   if (auto s = machine::save_gcode(o.out_dir + "/" + stem + ".ngc", gcode.value()); !s) return report_error(s.error());
   const std::string report_text = report::report_json(plan, sim.value(), meta);
+  const std::size_t files = 2 + (o.html ? 1 : 0) + (o.svg ? plan.layers.layers.size() : 0);
+  core::Progress progress("writing", files);
+  std::size_t written = 0;
   const report::PlanView view =
       report::make_plan_view(plan, machine, process, axis_shown ? &*axis_shown : nullptr, o.part.path, report_text);
   if (auto s = io::write_file_atomic(o.out_dir + "/plan.json", report::plan_view_json(view), io::Durability::kAtomic); !s) {
     return report_error(s.error());
   }
+  progress.update(++written);
   if (auto s = io::write_file_atomic(o.out_dir + "/report.json", report_text, io::Durability::kAtomic); !s) return report_error(s.error());
+  progress.update(++written);
   if (o.html) {
     const std::string html = report::report_html(view, report::viewer_bundle());
     if (auto s = io::write_file_atomic(o.out_dir + "/report.html", html, io::Durability::kAtomic); !s) return report_error(s.error());
+    progress.update(++written);
   }
   if (o.svg) {
     for (std::size_t k = 0; k < plan.layers.layers.size(); ++k) {
       const std::string name = fmt::format("{}/layer_{:05d}.svg", o.out_dir, plan.layers.layers[k].index);
       const std::string text = report::layer_svg(plan.layers.layers[k], &plan.toolpaths[k]);
       if (auto s = io::write_file_atomic(name, text, io::Durability::kAtomic); !s) return report_error(s.error());
+      progress.update(++written);
     }
   }
   if (warnings > 0) std::fprintf(stderr, "polyaxis: %zu warnings\n", warnings);

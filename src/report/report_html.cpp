@@ -150,21 +150,31 @@ std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
 }
 
 std::string report_html(const PlanView& view, std::string_view bundle, const HtmlOptions& options) {
-  // Neither the data nor the script may close the <script> element it sits in. In the JSON every
-  // "</" becomes "<\\/" (the same string to a JSON reader); in the script only "</script", which
-  // can appear only inside a string or a regular expression, where "<\\/script" means the same.
-  auto escaped = [](std::string_view text, bool only_script_tags) {
+  // Neither the data nor the script may end the <script> element it sits in. In the JSON every
+  // "<" becomes "\\u003c" ('<' appears only inside JSON strings, where the escape reads as the
+  // same character), so no "</script" or "<!--" can appear. The bundle is checked when it is built
+  // (viewer/build.mjs refuses "</script" and "<!--"); here "</script" is escaped once more in case.
+  auto escaped_data = [](std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (char c : text) {
+      if (c == '<') {
+        out += "\\u003c";
+      } else {
+        out += c;
+      }
+    }
+    return out;
+  };
+  auto escaped_script = [](std::string_view text) {
     std::string out;
     out.reserve(text.size());
     for (std::size_t i = 0; i < text.size(); ++i) {
       out += text[i];
       if (text[i] != '<' || i + 1 >= text.size() || text[i + 1] != '/') continue;
-      if (only_script_tags) {
-        std::string next(text.substr(i + 2, 6));
-        std::transform(next.begin(), next.end(), next.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-        if (next != "script") continue;
-      }
-      out += '\\';
+      std::string next(text.substr(i + 2, 6));
+      std::transform(next.begin(), next.end(), next.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      if (next == "script") out += '\\';
     }
     return out;
   };
@@ -175,9 +185,9 @@ std::string report_html(const PlanView& view, std::string_view bundle, const Htm
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" "
       "content=\"width=device-width,initial-scale=1\">\n<title>polyaxis — " +
       safe_title + "</title></head>\n<body>\n<script type=\"application/json\" id=\"polyaxis-data\">";
-  out += escaped(view_data_json(view, options), false);
+  out += escaped_data(view_data_json(view, options));
   out += "</script>\n<script>";
-  out += escaped(bundle, true);
+  out += escaped_script(bundle);
   out += "</script>\n</body></html>\n";
   return out;
 }

@@ -20,7 +20,8 @@ export function setRange(geom, from, to) {
 
 // Merges the closed rings of every layer into one indexed LineSegments buffer, in layer order.
 // ends[k] = number of indices that draw layers 0..k.
-export function mergeRings(layers, pointsKey, startsKey) {
+// With sampleEvery > 1 a second index (sampled, sampledEnds) holds only every n-th layer's rings.
+export function mergeRings(layers, pointsKey, startsKey, sampleEvery = 1) {
   let floats = 0;
   let segments = 0;
   for (const l of layers) {
@@ -55,5 +56,19 @@ export function mergeRings(layers, pointsKey, startsKey) {
     base += np;
     ends[k] = w;
   });
-  return { positions, index, ends };
+  if (sampleEvery <= 1) return { positions, index, ends, sampled: index, sampledEnds: ends };
+  let ns = 0;
+  layers.forEach((l, k) => { if (k % sampleEvery === 0) ns += ends[k] - (k > 0 ? ends[k - 1] : 0); });
+  const sampled = new Uint32Array(ns);
+  const sampledEnds = new Uint32Array(layers.length);
+  let ws = 0;
+  layers.forEach((l, k) => {
+    if (k % sampleEvery === 0) {
+      const a = k > 0 ? ends[k - 1] : 0;
+      sampled.set(index.subarray(a, ends[k]), ws);
+      ws += ends[k] - a;
+    }
+    sampledEnds[k] = ws;
+  });
+  return { positions, index, ends, sampled, sampledEnds };
 }

@@ -17,18 +17,24 @@ function lines(geom, material, order) {
   return l;
 }
 
+// Below the current layer at most this many layers' contours are drawn (every n-th layer):
+// thousands of thin layers would only paint the part grey.
+export const MAX_PAST_CONTOUR_LAYERS = 250;
+
 export function buildLayers(layers) {
-  const contours = mergeRings(layers, 'contours', 'contourStarts');
+  const every = Math.max(1, Math.ceil(layers.length / MAX_PAST_CONTOUR_LAYERS));
+  const contours = mergeRings(layers, 'contours', 'contourStarts', every);
   const unsupported = mergeRings(layers, 'unsupported', 'unsupportedStarts');
 
-  const pastGeom = ringGeometry(contours);
-  const currentGeom = shareGeometry(pastGeom);
+  const currentGeom = ringGeometry(contours);
+  const pastGeom = shareGeometry(currentGeom);
+  if (every > 1) pastGeom.setIndex(new BufferAttribute(contours.sampled, 1));
   const unsupportedGeom = ringGeometry(unsupported);
 
   const group = new Group();
   group.name = 'layers';
   const past = lines(pastGeom, new LineBasicMaterial({
-    color: new Color(COLORS.contour), transparent: true, opacity: 0.45,
+    color: new Color(COLORS.contour), transparent: true, opacity: 0.4,
   }), 1);
   const current = lines(currentGeom, new LineBasicMaterial({
     color: new Color(COLORS.currentContour), depthTest: false, transparent: true,
@@ -39,11 +45,11 @@ export function buildLayers(layers) {
   group.add(past, current, unsup);
 
   const cEnds = contours.ends;
+  const sEnds = contours.sampledEnds;
   const uEnds = unsupported.ends;
   function setLayer(k) {
-    const prev = k > 0 ? cEnds[k - 1] : 0;
-    setRange(pastGeom, 0, prev);
-    setRange(currentGeom, prev, k >= 0 ? cEnds[k] : 0);
+    setRange(pastGeom, 0, k > 0 ? sEnds[k - 1] : 0);
+    setRange(currentGeom, k > 0 ? cEnds[k - 1] : 0, k >= 0 ? cEnds[k] : 0);
     setRange(unsupportedGeom, 0, k >= 0 ? uEnds[k] : 0);
   }
   return {

@@ -38,11 +38,12 @@ function start() {
 
   // framing box: regions, else toolpath, else contours
   const box = new Box3();
-  for (const r of data.regions) expandBox(box, r.positions);
-  if (box.isEmpty()) expandBox(box, data.toolpath.points);
+  let framed = data.regions.map((r) => r.positions);
+  for (const a of framed) expandBox(box, a);
   const layers = buildLayers(data.layers);
-  if (box.isEmpty()) expandBox(box, layers.contourPositions);
-  const { diag } = view.frame(box);
+  if (box.isEmpty()) expandBox(box, (framed = [data.toolpath.points])[0]);
+  if (box.isEmpty()) expandBox(box, (framed = [layers.contourPositions])[0]);
+  const { diag } = view.frame(box, framed);
 
   const regions = buildRegions(data.regions, colorOf, diag);
   const axis = buildAxis(data.axis);
@@ -102,7 +103,7 @@ function start() {
     layerCount: nLayers,
     setLayer: (i) => { const k = setLayer(i); view.render(); return k; },
     renderNow: () => view.render(),
-    stats: { ...paths.stats, decodeMs: tDecoded - t0, contourPoints: layers.contourPoints },
+    stats: { ...paths.stats, decodeMs: tDecoded - t0, contourPoints: layers.contourPoints, regions: data.regions.length },
   });
   Object.defineProperty(api, 'currentLayer', { get: () => current, enumerable: true });
   api.loadMs = performance.now() - t0;

@@ -56,15 +56,20 @@ export function createView(container) {
   controls.enableDamping = false;
   controls.screenSpacePanning = true;
 
+  // At most one frame per animation frame; a synchronous render() cancels the pending one
+  // (a frame of a million segments is slow on software GL).
   let pending = false;
   const render = () => {
     pending = false;
     renderer.render(scene, camera);
   };
+  const onFrame = () => {
+    if (pending) render();
+  };
   const requestRender = () => {
     if (!pending) {
       pending = true;
-      requestAnimationFrame(render);
+      requestAnimationFrame(onFrame);
     }
   };
   controls.addEventListener('change', requestRender);
@@ -76,14 +81,46 @@ export function createView(container) {
   });
 
   // Frames the camera on box (Z up), adds the table grid at z = 0 and the axes helper.
-  function frame(box) {
+  // points: optional flat xyz arrays of the shown geometry, to fit tighter than the box corners.
+  function frame(box, points = []) {
     if (box.isEmpty()) box = new Box3(new Vector3(-10, -10, 0), new Vector3(10, 10, 10));
     const center = box.getCenter(new Vector3());
     const size = box.getSize(new Vector3());
     const diag = Math.max(size.length(), 1e-3);
+    // View from the front-right, above; distance so that all 8 box corners fit the free part of the
+    // window (between the side panels when the window is wide).
     const dir = new Vector3(1.0, -1.35, 0.9).normalize();
-    const fov = (camera.fov * Math.PI) / 180;
-    const dist = (0.5 * diag) / Math.sin(fov / 2) * 1.05;
+    const right = new Vector3().crossVectors(new Vector3(0, 0, 1), dir).normalize();
+    const up = new Vector3().crossVectors(dir, right);
+    const W = window.innerWidth, H = Math.max(1, window.innerHeight);
+    const freeW = W >= 900 ? W - 2 * 310 : W;
+    const tanV = Math.tan((camera.fov * Math.PI) / 360) * 0.92;
+    const tanH = tanV * (freeW / H);
+    let dist = 0;
+    const c = new Vector3();
+    const fit = () => {
+      c.sub(center);
+      const depth = c.dot(dir); // towards the camera
+      dist = Math.max(dist, depth + Math.abs(c.dot(right)) / tanH, depth + Math.abs(c.dot(up)) / tanV);
+    };
+    const total = points.reduce((n, a) => n + a.length / 3, 0);
+    if (total > 0) {
+      const stride = Math.max(1, Math.floor(total / 50000)); // a sample is enough
+      for (const a of points) {
+        for (let i = 0; i < a.length; i += 3 * stride) {
+          if (Number.isFinite(a[i]) && Number.isFinite(a[i + 1]) && Number.isFinite(a[i + 2])) {
+            c.set(a[i], a[i + 1], a[i + 2]);
+            fit();
+          }
+        }
+      }
+    } else {
+      for (let k = 0; k < 8; k++) {
+        c.set(k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y, k & 4 ? box.max.z : box.min.z);
+        fit();
+      }
+    }
+    dist = Math.max(dist, diag * 0.3);
     camera.position.copy(center).addScaledVector(dir, dist);
     camera.near = Math.max(dist / 1000, 1e-3);
     camera.far = dist * 100;

@@ -8,7 +8,7 @@ import { setRange, shareGeometry } from './buffers.js';
 
 export const MAX_GLYPHS = 20000; // glyphs of all layers together
 export const MAX_CURRENT_GLYPHS = 4000; // glyphs of the current layer
-const DEPOSIT_SHADE = 0.55; // deposit lines darker than their region's mesh, to stand out inside it
+const DEPOSIT_SHADE = 0.7; // deposit lines darker than their region's mesh, to stand out inside it
 const TILT_LIMIT_COS = Math.cos((1 * Math.PI) / 180); // tilted: more than 1 degree from the layer normal
 
 function lines(geom, material, order) {
@@ -139,7 +139,7 @@ export function buildToolpaths(tp, layers, colorOf, glyphLength) {
   const deposit = new Group();
   deposit.add(lines(depPast, pastMaterial, 3), lines(depCur, new LineBasicMaterial({ vertexColors: true }), 4));
   const travel = lines(trav, new LineBasicMaterial({
-    color: new Color(COLORS.travel), transparent: true, opacity: 0.6,
+    color: new Color(COLORS.travel), transparent: true, opacity: 0.35,
   }), 3);
   const glyphs = new Group();
   glyphs.add(lines(glyphPast, new LineBasicMaterial({ vertexColors: true, transparent: true, opacity: 0.45 }), 5),

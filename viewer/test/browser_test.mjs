@@ -37,21 +37,25 @@ const elapsed = () => ((Date.now() - t0) / 1000).toFixed(2);
 let browser = null;
 const problems = [];
 
+let finished = false;
 async function finish(code, line) {
+  if (finished) return new Promise(() => {}); // the first verdict wins; process.exit follows
+  finished = true;
   (code === 0 ? console.log : console.error)(line);
   if (browser) await Promise.race([browser.close().catch(() => {}), new Promise((r) => setTimeout(r, 5000))]);
   process.exit(code); // playwright kills a browser that is still running when node exits
 }
 
+// fires early enough that closing the browser (at most 5 s) still ends within the timeout
+const watchdogS = Math.max(1, timeoutS - 6);
 const watchdog = setTimeout(() => {
-  finish(1, `FAIL ${name}: timeout after ${timeoutS} s${problems.length ? `; ${problems.join('; ')}` : ''}`);
-}, timeoutS * 1000);
+  finish(1, `FAIL ${name}: timeout after ${watchdogS} s${problems.length ? `; ${problems.join('; ')}` : ''}`);
+}, watchdogS * 1000);
 watchdog.unref();
 
 // Counts non-background pixels of the WebGL canvas and hashes the picture (runs in the page).
 function measureCanvas() {
   const v = window.polyaxisViewer;
-  v.renderNow();
   const c = document.querySelector('canvas.px-canvas');
   const t = document.createElement('canvas');
   t.width = c.width;
@@ -92,7 +96,7 @@ try {
     // playwright gives the browser a fresh temporary --user-data-dir of its own
   });
   const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
-  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console error: ${m.text()}`); });
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console error: ${m.text().split('\n')[0].trim()}`); });
   page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
   page.on('requestfailed', (r) => problems.push(`request failed: ${r.url().slice(0, 200)} (${r.failure()?.errorText})`));
   page.on('crash', () => problems.push('page crashed'));
@@ -103,7 +107,7 @@ try {
   const tNav = Date.now();
   await page.goto(pathToFileURL(reportPath).href, { waitUntil: 'load', timeout: timeoutS * 1000 });
   // wait for data-ready, or stop at the first error
-  const deadline = t0 + timeoutS * 1000 - 5000;
+  const deadline = t0 + watchdogS * 1000 - 2000;
   while (true) {
     if (problems.length) await finish(1, `FAIL ${name}: ${problems.join('; ')}`);
     const state = await page.evaluate(() => [document.body.dataset.ready, document.body.dataset.error]);
@@ -118,7 +122,7 @@ try {
   const loadS = ((Date.now() - tNav) / 1000).toFixed(2);
   const info = await page.evaluate(() => {
     const v = window.polyaxisViewer;
-    return { layers: v.layerCount, current: v.currentLayer, loadMs: v.loadMs, stats: v.stats };
+    return { layers: v.layerCount, current: v.currentLayer, loadMs: v.loadMs, stats: v.stats, regions: v.stats.regions };
   });
   const first = await page.evaluate(measureCanvas);
   const total = first.width * first.height;
@@ -137,6 +141,7 @@ try {
       const s = document.getElementById('layer-slider');
       s.value = '0';
       s.dispatchEvent(new Event('input', { bubbles: true }));
+      window.polyaxisViewer.renderNow(); // instead of waiting for the next animation frame
       return window.polyaxisViewer.currentLayer;
     });
     if (now !== 0) await finish(1, `FAIL ${name}: slider moved to 0 but currentLayer is ${now}`);
@@ -152,7 +157,17 @@ try {
     await page.keyboard.press('ArrowRight');
     const afterKey = await page.evaluate(() => window.polyaxisViewer.currentLayer);
     if (info.layers > 1 && afterKey !== 1) await finish(1, `FAIL ${name}: ArrowRight gave layer ${afterKey}, expected 1`);
-    changeNote = `slider last→first changed ${second.changed} px`;
+    // a toggle: hiding the regions must change the picture (then show them again)
+    await page.click('#px-toggle-regions');
+    await page.evaluate(() => window.polyaxisViewer.renderNow());
+    await page.evaluate(measureCanvas);
+    await page.click('#px-toggle-regions');
+    await page.evaluate(() => window.polyaxisViewer.renderNow());
+    const toggled = await page.evaluate(measureCanvas);
+    if (toggled.changed < MIN_CHANGED && info.regions > 0) {
+      await finish(1, `FAIL ${name}: the regions toggle did not change the picture (${toggled.changed} px)`);
+    }
+    changeNote = `slider last→first changed ${second.changed} px, regions toggle ${toggled.changed} px`;
   }
   if (screenshot) {
     // the whole plan (last layer) unless --layer K asks for another one

@@ -199,11 +199,12 @@ TEST(ViewData, BigProgramsAreDecimatedKeepingEveryRunsEnds) {
 TEST(ReportHtml, NeitherDataNorScriptCanCloseTheirElement) {
   PlanView v = small_view();
   v.part = "dir/evil<b>&.stl";
-  v.machine = "m</script><script>alert(1)</script>";
+  v.machine = "m</script><script>alert(1)</script><!--<script>";
   const std::string html = report_html(v, "var s = '</script>'; var t = a</b;");
   std::size_t closers = 0;
   for (std::size_t at = html.find("</script>"); at != std::string::npos; at = html.find("</script>", at + 1)) ++closers;
   EXPECT_EQ(closers, 2u);  // the data element's and the script element's own
+  EXPECT_EQ(html.find("<!--"), std::string::npos);
   EXPECT_NE(html.find("var s = '<\\/script>'; var t = a</b;"), std::string::npos);  // only "</script" is touched in code
   EXPECT_NE(html.find("<title>polyaxis — evil&lt;b>&amp;.stl</title>"), std::string::npos);
   // The data element's text is the JSON the viewer reads.

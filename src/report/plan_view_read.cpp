@@ -1,0 +1,152 @@
+// Reading plan.json back (plan_view.h): kept apart from the writer so the fuzz target
+// (tests/fuzz/fuzz_plan_json.cpp) links only this.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "polyaxis/report/plan_view.h"
+
+namespace polyaxis::report {
+namespace {
+
+using Json = nlohmann::ordered_json;  // keeps report.json's key order
+
+Vec3 get_vec(const Json& j) {
+  if (!j.is_array() || j.size() != 3) throw std::runtime_error("expected [x, y, z]");
+  const Vec3 v{j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+  if (!core::is_finite(v)) throw std::runtime_error("a coordinate is not finite");
+  return v;
+}
+
+std::vector<Vec3> get_flat(const Json& j) {
+  if (!j.is_array() || j.size() % 3 != 0) throw std::runtime_error("a point list is not a multiple of 3 numbers");
+  std::vector<Vec3> out(j.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i] = {j[3 * i].get<double>(), j[3 * i + 1].get<double>(), j[3 * i + 2].get<double>()};
+    if (!core::is_finite(out[i])) throw std::runtime_error("a coordinate is not finite");
+  }
+  return out;
+}
+
+std::vector<std::vector<Vec3>> get_rings(const Json& j) {
+  std::vector<std::vector<Vec3>> out;
+  for (const Json& ring : j) out.push_back(get_flat(ring));
+  return out;
+}
+
+std::array<double, 2> get_range(const Json& j) {
+  if (!j.is_array() || j.size() != 2) throw std::runtime_error("expected [min, max]");
+  return {j[0].get<double>(), j[1].get<double>()};
+}
+
+std::vector<machine::ProgramPoint> program_rows(const Json& rows) {
+  std::vector<machine::ProgramPoint> program;
+  if (!rows.is_array()) throw std::runtime_error("\"program\" is not an array");
+  program.reserve(rows.size());
+  for (const Json& row : rows) {
+    if (!row.is_array() || row.size() != 10) throw std::runtime_error("a program row is not 10 numbers");
+    machine::ProgramPoint p;
+    p.tip_part_mm = {row[0].get<double>(), row[1].get<double>(), row[2].get<double>()};
+    p.tool_axis_part = {row[3].get<double>(), row[4].get<double>(), row[5].get<double>()};
+    p.feed_mm_s = row[6].get<double>();
+    p.process_on = row[7].get<int>() != 0;
+    p.layer = row[8].get<std::uint32_t>();
+    p.region = row[9].get<std::uint32_t>();
+    if (!core::is_finite(p.tip_part_mm) || !core::is_finite(p.tool_axis_part) || !std::isfinite(p.feed_mm_s)) {
+      throw std::runtime_error("a program row is not finite");
+    }
+    program.push_back(std::move(p));
+  }
+  return program;
+}
+
+}  // namespace
+
+core::Result<std::vector<machine::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source) {
+  try {
+    return program_rows(Json::parse(json).at("program"));
+  } catch (const std::exception& e) {
+    return core::make_error(core::ErrorCode::kInvalidInput, fmt::format("{}: not a polyaxis plan: {}", source, e.what()));
+  }
+}
+
+core::Result<PlanView> read_plan_view(std::string_view json, const std::string& source) {
+  PlanView view;
+  try {
+    const Json doc = Json::parse(json);
+    if (doc.value("format", std::string()) != "polyaxis-plan/1") throw std::runtime_error("\"format\" is not \"polyaxis-plan/1\"");
+    view.part = doc.at("part").get<std::string>();
+    view.machine = doc.at("machine").get<std::string>();
+    view.kinematics = doc.at("kinematics").get<std::string>();
+    view.tilt_axis = doc.at("tilt_axis").get<std::string>();
+    view.process = doc.at("process").get<std::string>();
+    view.bead_width_mm = doc.at("bead_width_mm").get<double>();
+    if (!std::isfinite(view.bead_width_mm)) throw std::runtime_error("bead_width_mm is not finite");
+    view.placement_mm = get_vec(doc.at("placement_mm"));
+    if (!doc.at("report").is_object()) throw std::runtime_error("\"report\" is not an object");
+    view.metrics_json = doc.at("report").dump(2);
+    for (const Json& r : doc.at("regions")) {
+      planner::PlanRegion region;
+      region.id = r.at("id").get<std::uint32_t>();
+      if (!r.at("parent").is_null()) region.parent = r.at("parent").get<std::uint32_t>();
+      region.direction = get_vec(r.at("build_direction"));
+      region.base_point = get_vec(r.at("base_point"));
+      region.support_free = r.at("support_free").get<bool>();
+      region.mesh.vertices = get_flat(r.at("vertices"));
+      const Json& tris = r.at("triangles");
+      if (!tris.is_array() || tris.size() % 3 != 0) throw std::runtime_error("a triangle list is not a multiple of 3 indices");
+      for (std::size_t i = 0; i < tris.size(); i += 3) {
+        const std::array<std::uint32_t, 3> t{tris[i].get<std::uint32_t>(), tris[i + 1].get<std::uint32_t>(), tris[i + 2].get<std::uint32_t>()};
+        for (std::uint32_t c : t) {
+          if (c >= region.mesh.vertices.size()) throw std::runtime_error(fmt::format("region {}: a vertex index is out of range", region.id));
+        }
+        region.mesh.triangles.push_back(t);
+      }
+      view.regions.push_back(std::move(region));
+    }
+    if (!doc.at("axis").is_null()) {
+      ViewAxis axis;
+      for (const Json& n : doc.at("axis").at("nodes")) axis.nodes.push_back(get_vec(n));
+      for (const Json& l : doc.at("axis").at("links")) {
+        if (!l.is_array() || l.size() != 3) throw std::runtime_error("an axis link is not [from, to, break]");
+        const std::array<std::uint32_t, 3> link{l[0].get<std::uint32_t>(), l[1].get<std::uint32_t>(), l[2].get<std::uint32_t>()};
+        if (link[0] >= axis.nodes.size() || link[1] >= axis.nodes.size()) throw std::runtime_error("an axis link's node is out of range");
+        axis.links.push_back(link);
+      }
+      view.axis = std::move(axis);
+    }
+    for (const Json& l : doc.at("layers")) {
+      ViewLayer layer;
+      layer.index = l.at("index").get<std::uint32_t>();
+      layer.region = l.at("region").get<std::uint32_t>();
+      layer.origin = get_vec(l.at("origin"));
+      layer.normal = get_vec(l.at("normal"));
+      layer.u = get_vec(l.at("u"));
+      layer.v = get_vec(l.at("v"));
+      layer.thickness_mm = l.at("thickness_mm").get<double>();
+      layer.area_mm2 = l.at("area_mm2").get<double>();
+      layer.unsupported_area_mm2 = l.at("unsupported_area_mm2").get<double>();
+      layer.max_tilt_deg = l.at("max_tilt_deg").get<double>();
+      layer.paths = l.at("paths").get<std::uint32_t>();
+      layer.tilt_deg = get_range(l.at("tilt_deg"));
+      layer.c_deg = get_range(l.at("c_deg"));
+      layer.contours = get_rings(l.at("contours"));
+      layer.unsupported = get_rings(l.at("unsupported"));
+      for (double x : {layer.thickness_mm, layer.area_mm2, layer.unsupported_area_mm2, layer.max_tilt_deg, layer.tilt_deg[0],
+                       layer.tilt_deg[1], layer.c_deg[0], layer.c_deg[1]}) {
+        if (!std::isfinite(x)) throw std::runtime_error(fmt::format("layer {}: a number is not finite", layer.index));
+      }
+      view.layers.push_back(std::move(layer));
+    }
+    view.program = program_rows(doc.at("program"));
+    for (const machine::ProgramPoint& p : view.program) {
+      if (p.layer >= view.layers.size()) throw std::runtime_error("a program row's layer is out of range");
+    }
+  } catch (const std::exception& e) {
+    return core::make_error(core::ErrorCode::kInvalidInput, fmt::format("{}: not a polyaxis plan: {}", source, e.what()));
+  }
+  return view;
+}
+
+}  // namespace polyaxis::report
