@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "point_welder.h"
+#include "polyaxis/core/progress.h"
 #include "sniff.h"
 
 namespace polyaxis::io {
@@ -83,7 +84,9 @@ core::Result<ReadResult> read_binary(std::string_view data, const std::string& n
   FloatPointWelder welder(mesh.points, n / 2 + 16);
   std::uint64_t nan_normals = 0;
   const char* rec = data.data() + kHeaderBytes;
+  core::Progress progress("reading", n);  // triangles
   for (std::uint64_t t = 0; t < n; ++t, rec += kRecordBytes) {
+    if ((t & 0xffff) == 0) progress.update(t);
     if (!std::isfinite(read_f32(rec)) || !std::isfinite(read_f32(rec + 4)) || !std::isfinite(read_f32(rec + 8))) {
       ++nan_normals;
     }
@@ -122,6 +125,7 @@ class Tokens {
     return pos_ >= text_.size();
   }
   std::size_t line() const { return line_; }
+  std::size_t position() const { return pos_; }
 
  private:
   static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
@@ -173,7 +177,10 @@ core::Result<ReadResult> read_ascii(std::string_view data, const std::string& na
     return {};
   };
   bool in_solid = false;
+  core::Progress progress("reading", data.size());  // bytes
+  std::uint64_t facets_read = 0;
   while (!tok.at_end()) {
+    if ((++facets_read & 0xffff) == 0) progress.update(tok.position());
     const std::string_view word = tok.next();
     if (equals_nocase(word, "solid")) {
       tok.skip_line();  // the name: opaque bytes (F9)

@@ -149,6 +149,48 @@ TEST(PlanLBlock, DecompositionBuildsTheArmAlongXAndIsSupportFree) {
   EXPECT_LE(nlohmann::json::parse(sim.out)["max_tip_deviation_mm"].get<double>(), 0.01);
 }
 
+TEST(PlanReport, SvgPerLayerHasContoursPathsAndSeams) {
+  TempDir dir;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/pen_rack.stl";
+  const auto r = run_cli("plan '" + part + "' --svg -o '" + dir.path().string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto plan = read_json(dir / "plan.json");
+  std::size_t svgs = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) svgs += entry.path().extension() == ".svg";
+  EXPECT_EQ(svgs, plan["layers"].size());
+  const std::string first = slurp(dir / "layer_00010.svg");  // layer 0 is the bar's corner under the plate: no path fits
+  EXPECT_NE(first.find("<path d=\"M"), std::string::npos);         // the section
+  EXPECT_NE(first.find("<polyline stroke=\"#8b1a1a\""), std::string::npos);  // a perimeter
+  EXPECT_NE(first.find("class=\"seam\""), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir / "report.html"));
+  // plan.json holds what the page shows: the part as one region, each layer's contours on its plane.
+  ASSERT_EQ(plan["regions"].size(), 1u);
+  EXPECT_TRUE(plan["regions"][0]["parent"].is_null());
+  EXPECT_NEAR(plan["regions"][0]["volume_mm3"].get<double>(), 21867.2, 0.5);
+  EXPECT_FALSE(plan["layers"][10]["contours"].empty());
+  EXPECT_EQ(plan["report"]["layers"], plan["layers"].size());
+}
+
+TEST(PlanReport, ViewRewritesThePageAndRefusesAMalformedPlan) {
+  TempDir dir;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
+  ASSERT_EQ(run_cli("plan '" + part + "' --no-html -o '" + dir.path().string() + "'").exit_code, 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "report.html"));
+  auto r = run_cli("view '" + (dir / "plan.json").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string html = slurp(dir / "report.html");
+  EXPECT_NE(html.find("id=\"polyaxis-data\""), std::string::npos);
+  EXPECT_NE(html.find("\"format\":\"polyaxis-view/1\""), std::string::npos);
+  {
+    std::ofstream bad(dir / "bad.json");
+    bad << "{\"format\":\"polyaxis-plan/1\",\"part\":1}";
+  }
+  r = run_cli("view '" + (dir / "bad.json").string() + "' -o '" + (dir / "bad.html").string() + "'");
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("bad.json"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.html"));
+}
+
 TEST(PlanErrors, BadConfigurationExitsTwoNamingTheKey) {
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
   auto r = run_cli("plan '" + part + "' --set process.bead_widht_mm=2 -o /tmp/never");

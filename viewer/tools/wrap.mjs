@@ -30,7 +30,7 @@ const html = '<!DOCTYPE html>\n'
   + '<html lang="en"><head><meta charset="utf-8"><meta name="viewport" content="width=device-width,initial-scale=1">\n'
   + `<title>polyaxis — ${escHtml(title)}</title></head>\n`
   + '<body>\n'
-  + '<script type="application/json" id="polyaxis-data">' + data.split('</').join('<\\/') + '</script>\n'
+  + '<script type="application/json" id="polyaxis-data">' + data.split('<').join('\\u003c') + '</script>\n'
   + '<script>' + bundle + '</script>\n'
   + '</body></html>\n';
 writeFileSync(outPath, html);
