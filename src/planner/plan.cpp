@@ -223,6 +223,12 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     }
     plan.unsupported_area_mm2 += r.unsupported_area_mm2;
   }
+  // A region is support-free only when the layer check agrees with the region's own flag.
+  for (PlanRegion& region : plan.placed_regions) {
+    for (const LayerReport& r : plan.layer_reports) {
+      if (r.region == region.id && r.unsupported_area_mm2 > 0.0) region.support_free = false;
+    }
+  }
   plan.times.support_s = since(t0);
   return plan;
 }

@@ -131,6 +131,7 @@ TEST(PlanLBlock, DecompositionBuildsTheArmAlongXAndIsSupportFree) {
   const auto planar = run_cli("plan '" + part + "' -o '" + (dir / "planar").string() + "'");
   ASSERT_EQ(planar.exit_code, 0) << planar.err;
   EXPECT_FALSE(read_json(dir / "planar" / "report.json")["support_free"].get<bool>());  // the arm's underside
+  EXPECT_FALSE(read_json(dir / "planar" / "plan.json")["regions"][0]["support_free"].get<bool>());
   const auto split = run_cli("plan '" + part + "' --decompose -o '" + (dir / "split").string() + "'");
   ASSERT_EQ(split.exit_code, 0) << split.err;
   const auto report = read_json(dir / "split" / "report.json");

@@ -75,7 +75,8 @@ struct Plan {
   std::vector<LayerReport> layer_reports;
   std::vector<std::uint32_t> region_of_layer;  // region id of each layer
   std::uint32_t regions = 1;
-  // The regions as built, placed (the whole part as region 0 when no regions were given).
+  // The regions as built, placed (the whole part as region 0 when no regions were given); a
+  // region's support_free is cleared when one of its layers has unsupported area.
   std::vector<PlanRegion> placed_regions;
   Vec3 placement_mm;          // translation applied to the part: centred on the table, base at 0
   double deposit_length_mm = 0.0;

@@ -231,6 +231,7 @@ TEST(PlanView, RealPlanHasContoursRotaryRangesAndTheWholePartAsOneRegion) {
   ASSERT_TRUE(plan.ok()) << plan.error().message;
   const PlanView v = make_plan_view(plan.value(), machine, process, nullptr, "pen_rack.stl", "{}");
   ASSERT_EQ(v.regions.size(), 1u);
+  EXPECT_EQ(v.regions[0].support_free, plan.value().unsupported_area_mm2 == 0.0);
   EXPECT_FALSE(v.axis.has_value());
   ASSERT_EQ(v.layers.size(), plan.value().layers.layers.size());
   double largest_tilt = 0.0;
