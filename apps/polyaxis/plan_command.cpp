@@ -167,6 +167,7 @@ int run_plan(PlanCommandOptions& o) {
                 plan.layers.layers.size(), plan.deposit_length_mm, sim.value().feed_time_s, plan.max_tilt_deg,
                 plan.unsupported_area_mm2 == 0.0 ? "support-free" : "NOT support-free", plan.unsupported_area_mm2, o.out_dir.c_str(),
                 stem.c_str());
+    if (o.html) std::printf("open %s/report.html in a browser to check the plan\n", o.out_dir.c_str());
   }
   return 0;
 }
