@@ -51,6 +51,7 @@
 #include <numeric>
 #include <span>
 
+#include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/geom2d/polygon.h"
 #include "polyaxis/slicing/section.h"
@@ -316,6 +317,7 @@ class Engine {
   const mesh::Mesh& mesh_;
   const mesh::EdgeTopology& topology_;
   const CentroidalAxisOptions& options_;
+  core::Progress progress_{"axis nodes", 0};  // the count of nodes found so far
   double inc_ = 1.0;
   std::array<std::unique_ptr<Direction>, 6> directions_;
   slicing::SectionScratch scratch_;
@@ -571,6 +573,7 @@ std::uint32_t Engine::add_node(std::uint32_t branch, int k, double h, Polygon lo
   n.branch = branch;
   n.loop = std::move(loop);
   nodes_.push_back(std::move(n));
+  progress_.update(nodes_.size());
   const auto id = static_cast<std::uint32_t>(nodes_.size() - 1);
   branches_[branch].nodes.push_back(id);
   return id;

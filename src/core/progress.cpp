@@ -25,23 +25,31 @@ Progress::Progress(std::string stage, std::uint64_t total)
 
 Progress::~Progress() {
   if (shown_) {
-    update(total_ ? total_ : done_);
+    draw(total_ ? total_ : done_, true);
     if (stderr_is_terminal()) std::fputc('\n', stderr);
   }
 }
 
-void Progress::update(std::uint64_t done) {
+void Progress::update(std::uint64_t done) { draw(done, false); }
+
+void Progress::draw(std::uint64_t done, bool last) {
   done_ = done;
   if (g_mode == ProgressMode::kQuiet) return;
   const auto now = std::chrono::steady_clock::now();
   if (now - start_ < kFirstShow) return;
   const bool tty = stderr_is_terminal();
-  if (shown_ && now - last_draw_ < (tty ? kTerminalRedraw : kPlainRedraw) && done != total_) return;
+  if (shown_ && now - last_draw_ < (tty ? kTerminalRedraw : kPlainRedraw) && done != total_ && !last) return;
   shown_ = true;
   last_draw_ = now;
   const double secs = std::chrono::duration<double>(now - start_).count();
   const double rate = secs > 0 ? static_cast<double>(done) / secs : 0.0;
-  if (tty) {
+  if (total_ == 0) {  // unknown total: the count and the rate
+    if (tty) {
+      std::fprintf(stderr, "\r%-12s %llu  %.0f/s", stage_.c_str(), static_cast<unsigned long long>(done), rate);
+    } else {
+      std::fprintf(stderr, "%s: %llu (%.0f/s)\n", stage_.c_str(), static_cast<unsigned long long>(done), rate);
+    }
+  } else if (tty) {
     constexpr int kWidth = 30;
     const int filled = total_ ? static_cast<int>(kWidth * static_cast<double>(done) / static_cast<double>(total_)) : 0;
     std::string bar(static_cast<std::size_t>(filled), '#');

@@ -14,7 +14,8 @@ void set_progress_mode(ProgressMode mode);
 
 class Progress {
  public:
-  // total may be 0 when unknown. Nothing is shown for a stage that ends within a second.
+  // total may be 0 when unknown: then the count and rate are shown without a bar. Nothing is
+  // shown for a stage that ends within a second.
   Progress(std::string stage, std::uint64_t total);
   ~Progress();
   Progress(const Progress&) = delete;
@@ -23,6 +24,8 @@ class Progress {
   void update(std::uint64_t done);  // cheap: redraws at most a few times a second
 
  private:
+  void draw(std::uint64_t done, bool last);  // LAST: the stage's end, always drawn once shown
+
   std::string stage_;
   std::uint64_t total_;
   std::uint64_t done_ = 0;

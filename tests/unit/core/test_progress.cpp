@@ -81,6 +81,19 @@ TEST(Progress, NothingWhenQuiet) {
   EXPECT_EQ(out, "");
 }
 
+TEST(Progress, CountAndRateWhenTheTotalIsUnknown) {
+  set_progress_mode(ProgressMode::kAuto);
+  const std::string out = captured_through_file([] {
+    Progress p("nodes", 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    p.update(7);
+    p.update(9);  // within the plain-line interval: not shown until the end
+  });
+  EXPECT_NE(out.find("nodes: 7 ("), std::string::npos) << out;
+  EXPECT_NE(out.find("nodes: 9 ("), std::string::npos) << out;  // the end is always shown
+  EXPECT_EQ(out.find("/0"), std::string::npos) << out;
+}
+
 TEST(Progress, BarWithCountAndRateOnATerminal) {
   set_progress_mode(ProgressMode::kAuto);
   int master = -1, slave = -1;
