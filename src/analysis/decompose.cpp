@@ -1,3 +1,6 @@
+// Decomposition into support-free regions: Ruan, Eiamsa-ard, Liou 2006, §4.1 (splitting planar
+// faces found from the centroidal axis's break links), with every split checked by the overhang it
+// leaves (SPEC §2.3) and the build direction of each region chosen by that overhang.
 #include "polyaxis/analysis/decompose.h"
 
 #include <fmt/format.h>
@@ -7,220 +10,265 @@
 
 #include "polyaxis/mesh/plane_cut.h"
 #include "polyaxis/mesh/properties.h"
-#include "polyaxis/mesh/repair.h"
 #include "polyaxis/mesh/topology.h"
+#include "region_geometry.h"
+#include "split_screen.h"
 
 namespace polyaxis::analysis {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-// Facets whose unit normals differ by less than this (and share an edge) belong to one planar face.
-constexpr double kCoplanarCos = 0.9999999;
-// Unsupported area below this is the cut's own numerical noise.
-constexpr double kUnsupportedNoiseMm2 = 0.01;
+using detail::angle_deg;
+using detail::kOnBaseMm;
+using detail::kUnsupportedNoiseMm2;
+using detail::PlanarFace;
+
 // A splitting face is a real planar face of the part, not one facet of a tessellated curve: it
-// has at least this many facets and this much area. At most kMaxSplitCandidates faces, the nearest
-// to the break link, are tried per link (each try is a CGAL cut).
+// has at least this many facets and this much area. At most kMaxFaceCandidates faces, the nearest
+// to the link, are tried per link.
 constexpr std::uint32_t kMinSplitFaceFacets = 2;
 constexpr double kMinSplitFaceMm2 = 1.0;
-constexpr std::size_t kMaxSplitCandidates = 8;
-// A facet within this of a region's base plane rests on it.
-constexpr double kOnBaseMm = 1e-6;
+constexpr std::size_t kMaxFaceCandidates = 12;
+// Planes across the axis: at most this many per direction, stepped back from the branch's first
+// node towards the link's start by the axis increment.
+constexpr int kMaxAxisPlanes = 16;
 // A face within this angle of facing straight down, and at least this large, is a candidate for
 // the plate (the root's base).
 constexpr double kPlateFaceDeg = 1.0;
 constexpr double kMinPlateFaceMm2 = 1.0;
-// A splitting plane within this of a link's extent still counts as overlapping it (Ruan Eq. 5).
+// A splitting face within this of a link's extent still overlaps it (Ruan Eq. 5), mm.
 constexpr double kLinkOverlapMm = 1e-6;
+// At most this many nodes of a branch stand for it (where its material is), evenly spread.
+constexpr std::size_t kMaxTargets = 8;
+// A split must remove at least this much overhang, mm², and at most this many of a link's best
+// screened candidates are cut exactly.
+constexpr double kMinGainMm2 = 2.0 * kUnsupportedNoiseMm2;
+constexpr std::size_t kExactTries = 3;
+// Cosines closer than this are a tie (about 0.1° near 0°, 1e-6 in general).
+constexpr double kSameCos = 1e-6;
+// A cut along a planar face of the part is moved this far into the child, mm: corefinement of a
+// plane with coplanar facets of an already cut region can fail to end (CGAL clip), and the parent
+// keeps only a film this thin of the child (its faces far below kUnsupportedNoiseMm2).
+constexpr double kFaceCutOffsetMm = 1e-3;
 
-struct PlanarFace {
-  Vec3 normal;
-  Vec3 point;
-  double area_mm2 = 0.0;
-  std::uint32_t facets = 0;
-  bool concave_edge = false;
+struct Candidate {
+  Vec3 point, normal;  // the plane; normal towards the child
+  std::string rule;
+  detail::Screened screened;
 };
 
-// Planar faces of MESH (coplanar facets joined across edges), with whether their boundary has a
-// concave edge (the neighbouring facet rises above the face's plane).
-std::vector<PlanarFace> planar_faces(const mesh::Mesh& m) {
-  const mesh::EdgeTopology topo = mesh::build_topology(m);
-  const std::size_t nf = m.triangles.size();
-  std::vector<Vec3> normal(nf);
-  for (std::size_t f = 0; f < nf; ++f) normal[f] = core::normalized(mesh::face_area_vector(m, f));
-  std::vector<std::uint32_t> face_of(nf, mesh::kNoHalfEdge);
-  std::vector<PlanarFace> faces;
-  std::vector<std::uint32_t> stack;
-  for (std::uint32_t seed = 0; seed < nf; ++seed) {
-    if (face_of[seed] != mesh::kNoHalfEdge) continue;
-    const auto id = static_cast<std::uint32_t>(faces.size());
-    PlanarFace face{normal[seed], m.corner(seed, 0), 0.0, 0, false};
-    stack.assign(1, seed);
-    face_of[seed] = id;
-    while (!stack.empty()) {
-      const std::uint32_t f = stack.back();
-      stack.pop_back();
-      face.area_mm2 += core::norm(mesh::face_area_vector(m, f)) / 2.0;
-      ++face.facets;
-      for (std::uint32_t k = 0; k < 3; ++k) {
-        const std::uint32_t o = topo.opposite[3 * f + k];
-        if (o == mesh::kNoHalfEdge) continue;
-        const std::uint32_t g = o / 3;
-        if (core::dot(normal[g], face.normal) >= kCoplanarCos) {
-          if (face_of[g] == mesh::kNoHalfEdge) {
-            face_of[g] = id;
-            stack.push_back(g);
-          }
-          continue;
-        }
-        // A boundary edge: concave when the neighbour's far corner lies above this face's plane.
-        const Vec3 far = m.vertices[m.triangles[g][(o % 3 + 2) % 3]];
-        if (core::dot(far - face.point, face.normal) > 1e-9) face.concave_edge = true;
+// Whether the split removing GAIN_A mm² of overhang with candidate A (of link DIR_A) beats B: more
+// overhang removed (beyond the noise), then Ruan's splitting faces before planes across the axis,
+// then the plane most nearly across its link (Ruan's criterion 1), then the child built closest to
+// its base's normal (flat first layers).
+bool preferred(double gain_a, const Candidate& a, Vec3 dir_a, double gain_b, const Candidate& b, Vec3 dir_b) {
+  if (std::fabs(gain_a - gain_b) > kUnsupportedNoiseMm2) return gain_a > gain_b;
+  const bool face_a = a.rule == "planar face", face_b = b.rule == "planar face";
+  if (face_a != face_b) return face_a;
+  const double across_a = std::fabs(core::dot(a.normal, dir_a)), across_b = std::fabs(core::dot(b.normal, dir_b));
+  if (std::fabs(across_a - across_b) > kSameCos) return across_a > across_b;
+  return core::dot(a.screened.child_direction, a.normal) > core::dot(b.screened.child_direction, b.normal) + kSameCos;
+}
+
+struct SplitLink {
+  std::size_t link = 0;
+  Vec3 from, to, dir, father_dir, branch_dir;
+  std::vector<Vec3> targets;  // nodes beyond the link
+  bool done = false;
+};
+
+// The links that may start a region: C¹ breaks (Ruan) and the first link of every child branch
+// (its junction with its father), each with the nodes reached beyond it.
+std::vector<SplitLink> split_links(const CentroidalAxis& axis) {
+  std::vector<std::vector<std::uint32_t>> next(axis.nodes.size());
+  for (const AxisLink& l : axis.links) next[l.from].push_back(l.to);
+  std::vector<SplitLink> out;
+  for (std::size_t li = 0; li < axis.links.size(); ++li) {
+    const AxisLink& link = axis.links[li];
+    const bool junction = axis.nodes[link.from].branch != axis.nodes[link.to].branch;
+    if (!link.is_break && !junction) continue;
+    SplitLink s;
+    s.link = li;
+    s.from = axis.nodes[link.from].position;
+    s.to = axis.nodes[link.to].position;
+    s.dir = core::normalized(s.to - s.from);
+    s.father_dir = s.dir;
+    for (const AxisLink& l : axis.links) {
+      if (l.to == link.from) s.father_dir = core::normalized(axis.nodes[l.to].position - axis.nodes[l.from].position);
+    }
+    std::vector<std::uint32_t> reach{link.to};
+    std::vector<char> seen(axis.nodes.size(), 0);
+    seen[link.to] = 1;
+    for (std::size_t i = 0; i < reach.size(); ++i) {
+      for (std::uint32_t n : next[reach[i]]) {
+        if (!seen[n]) seen[n] = 1, reach.push_back(n);
       }
     }
-    faces.push_back(face);
-  }
-  return faces;
-}
-
-double angle_deg(Vec3 a, Vec3 b) {
-  return std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kPi;
-}
-
-// Generalised winding number of M at P: about 1 inside a closed outward mesh, 0 outside.
-double winding(const mesh::Mesh& m, Vec3 p) {
-  double omega = 0.0;
-  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-    const Vec3 a = m.corner(f, 0) - p, b = m.corner(f, 1) - p, c = m.corner(f, 2) - p;
-    const double la = core::norm(a), lb = core::norm(b), lc = core::norm(c);
-    omega += 2.0 * std::atan2(core::dot(a, core::cross(b, c)),
-                              la * lb * lc + core::dot(a, b) * lc + core::dot(a, c) * lb + core::dot(b, c) * la);
-  }
-  return omega / (4.0 * kPi);
-}
-
-// Overhang area of M built along D, not counting the facets lying on its base plane (BASE_POINT,
-// BASE_NORMAL): they rest on the parent region or the plate. (mesh::overhang_area would count a
-// base that is not perpendicular to D.)
-double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_point, Vec3 base_normal) {
-  const Vec3 dn = core::normalized(d), bn = core::normalized(base_normal);
-  const double limit = -std::sin(alpha_deg * kPi / 180.0);
-  double area = 0.0;
-  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-    const Vec3 n2 = mesh::face_area_vector(m, f);
-    const double len = core::norm(n2);
-    if (len == 0.0 || core::dot(n2, dn) >= limit * len) continue;
-    bool on_base = true;
-    for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(m.corner(f, k) - base_point, bn)) <= kOnBaseMm;
-    if (!on_base) area += len / 2.0;
-  }
-  return area < kUnsupportedNoiseMm2 ? 0.0 : area;
-}
-
-// The shells of a cut piece, as separate closed meshes (repair groups faces by shell).
-std::vector<mesh::Mesh> shells_of(const mesh::Mesh& piece) {
-  std::vector<mesh::Mesh> out;
-  if (piece.triangles.empty()) return out;
-  mesh::RepairOptions o;
-  o.check_self_intersections = false;
-  o.max_hole_edges = 0;
-  auto r = mesh::repair(io::RawMesh{piece.vertices, piece.triangles}, o);
-  if (!r) return out;
-  for (const mesh::Shell& s : r.value().shells) {
-    mesh::Mesh m;
-    m.vertices = r.value().mesh.vertices;
-    m.triangles.assign(r.value().mesh.triangles.begin() + s.first_face, r.value().mesh.triangles.begin() + s.first_face + s.face_count);
-    out.push_back(std::move(m));
+    const std::size_t step = (reach.size() + kMaxTargets - 1) / kMaxTargets;
+    for (std::size_t i = 0; i < reach.size(); i += step) s.targets.push_back(axis.nodes[reach[i]].position);
+    if (reach.size() > 1) s.targets.push_back(axis.nodes[reach.back()].position);
+    // The direction the branch grows in: from the link's end to the node beyond it.
+    s.branch_dir = s.dir;
+    if (!next[link.to].empty()) s.branch_dir = core::normalized(axis.nodes[next[link.to][0]].position - s.to);
+    out.push_back(std::move(s));
   }
   return out;
 }
 
-mesh::Mesh merged(const std::vector<mesh::Mesh>& parts) {
-  mesh::Mesh out;
-  for (const mesh::Mesh& p : parts) {
-    const auto base = static_cast<std::uint32_t>(out.vertices.size());
-    out.vertices.insert(out.vertices.end(), p.vertices.begin(), p.vertices.end());
-    for (auto t : p.triangles) out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+// Sum of the distances from TARGETS to the solid M (0 for a target inside).
+double distance_sum(const mesh::Mesh& m, const std::vector<Vec3>& targets) {
+  double sum = 0.0;
+  for (const Vec3& t : targets) sum += detail::distance_to_solid(m, t);
+  return sum;
+}
+
+std::pair<double, double> extent_along(const mesh::Mesh& m, const PlanarFace& f, Vec3 d) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (std::uint32_t id : f.facet_ids) {
+    for (int k = 0; k < 3; ++k) {
+      const double c = core::dot(m.corner(id, k), d);
+      lo = std::min(lo, c), hi = std::max(hi, c);
+    }
+  }
+  return {lo, hi};
+}
+
+// Candidate splitting planes for link S, best-first by their origin: Ruan's splitting faces (concave
+// boundary edge, normal within the tolerance of the link or its father link, projection overlapping
+// the link: Eq. 5), then planar faces with a concave edge within max_base_tilt_deg of the link (the
+// child then grows along the link from a tilted base), then planes across the link and across the
+// branch's first link, from the branch's first node back towards the link's start.
+std::vector<Candidate> candidates_for(const SplitLink& s, const mesh::Mesh& part, const std::vector<PlanarFace>& faces,
+                                      double increment_mm, double tolerance_deg, double alpha_deg) {
+  std::vector<Candidate> out;
+  Vec3 centre{};
+  for (const Vec3& t : s.targets) centre = centre + t;
+  centre = centre / static_cast<double>(s.targets.size());
+  auto add = [&](Vec3 point, Vec3 normal, const char* rule, double offset_mm) {
+    normal = core::normalized(normal);
+    if (core::dot(centre - point, normal) < 0.0) normal = normal * -1.0;
+    out.push_back({point + normal * offset_mm, normal, rule, {}});
+  };
+  auto overlaps = [&](const PlanarFace& f, Vec3 d) {
+    const auto [flo, fhi] = extent_along(part, f, d);
+    const double a = core::dot(s.from, d), b = core::dot(s.to, d);
+    return fhi >= std::min(a, b) - kLinkOverlapMm && flo <= std::max(a, b) + kLinkOverlapMm;
+  };
+  std::vector<const PlanarFace*> ruan, tilted;
+  for (const PlanarFace& f : faces) {
+    if (!f.concave_edge || f.facets < kMinSplitFaceFacets || f.area_mm2 < kMinSplitFaceMm2) continue;
+    bool is_ruan = false;
+    for (const Vec3 d : {s.dir, s.father_dir}) {
+      if (std::min(angle_deg(f.normal, d), angle_deg(f.normal * -1.0, d)) <= tolerance_deg && overlaps(f, d)) is_ruan = true;
+    }
+    if (is_ruan) {
+      ruan.push_back(&f);
+    } else if (angle_deg(f.normal, s.dir) < detail::max_base_tilt_deg(alpha_deg) && overlaps(f, s.dir)) {
+      tilted.push_back(&f);
+    }
+  }
+  // Nearest first to where the branch leaves its father (the link's end).
+  for (auto* list : {&ruan, &tilted}) {
+    std::stable_sort(list->begin(), list->end(), [&](const PlanarFace* a, const PlanarFace* b) {
+      return std::fabs(core::dot(a->point - s.to, a->normal)) < std::fabs(core::dot(b->point - s.to, b->normal));
+    });
+    if (list->size() > kMaxFaceCandidates) list->resize(kMaxFaceCandidates);
+    for (const PlanarFace* f : *list) add(f->point, f->normal, "planar face", kFaceCutOffsetMm);
+  }
+  const double length = core::norm(s.to - s.from);
+  const double step = std::max(increment_mm, length / kMaxAxisPlanes);
+  for (const Vec3 d : {s.dir, core::normalized(s.dir + s.branch_dir), s.branch_dir}) {
+    for (int k = 0; k <= kMaxAxisPlanes && k * step <= length + kLinkOverlapMm; ++k) add(s.to - s.dir * (k * step), d, "fallback plane", 0.0);
   }
   return out;
 }
 
-struct Split {
+struct ExactSplit {
   mesh::Mesh parent, child;
-  Vec3 point, normal;  // the cut plane, normal pointing into the child
-  Vec3 direction;      // the child's build direction
-  double unsupported = INFINITY;
-  std::string rule;
+  Vec3 direction;
+  double unsupported_mm2 = INFINITY;  // parent + child
 };
 
-// Cuts REGION by the plane (POINT, NORMAL oriented towards TARGET); the child is the shell holding
-// TARGET (or nearest to it), everything else stays with the parent.
-std::optional<Split> try_split(const Region& region, Vec3 point, Vec3 normal, Vec3 target, Vec3 link_dir, double alpha,
-                               const std::string& rule) {
-  if (core::dot(target - point, normal) < 0.0) normal = normal * -1.0;
-  auto cut = mesh::cut_by_plane(region.mesh, point, normal * -1.0);  // "below" = the child's side
-  if (!cut) return std::nullopt;
-  std::vector<mesh::Mesh> child_side = shells_of(cut.value().below);
-  if (child_side.empty() || cut.value().above.triangles.empty()) return std::nullopt;
+// Cuts HOST by the candidate's plane (capped); the child is the shell on the normal side nearest
+// the targets, every other piece stays with the parent.
+std::optional<ExactSplit> exact_split(const Region& host, const Candidate& c, const SplitLink& s, double alpha_deg) {
+  auto cut = mesh::cut_by_plane(host.mesh, c.point, c.normal * -1.0);  // "below" = the child's side
+  if (!cut || cut.value().above.triangles.empty()) return std::nullopt;
+  std::vector<mesh::Mesh> side = detail::shells_of(cut.value().below);
+  if (side.empty()) return std::nullopt;
   std::size_t pick = 0;
-  double best = -INFINITY;
-  for (std::size_t i = 0; i < child_side.size(); ++i) {
-    const double w = winding(child_side[i], target);
-    if (w > best) best = w, pick = i;
+  double best = INFINITY;
+  for (std::size_t i = 0; i < side.size(); ++i) {
+    const double d = distance_sum(side[i], s.targets);
+    if (d < best) best = d, pick = i;
   }
-  Split s;
-  s.child = std::move(child_side[pick]);
-  std::vector<mesh::Mesh> rest{cut.value().above};
-  for (std::size_t i = 0; i < child_side.size(); ++i) {
-    if (i != pick) rest.push_back(child_side[i]);
+  ExactSplit out;
+  out.child = std::move(side[pick]);
+  std::vector<mesh::Mesh> rest{std::move(cut.value().above)};
+  for (std::size_t i = 0; i < side.size(); ++i) {
+    if (i != pick) rest.push_back(std::move(side[i]));
   }
-  s.parent = merged(rest);
-  s.point = point;
-  s.normal = normal;
-  s.rule = rule;
-  // The child grows from the cut: along the plane normal (Ruan §4.2.1: the reverse of the base
-  // surface's normal), or along the link, whichever leaves less overhang.
-  const double parent_overhang = unsupported(s.parent, region.build_direction, alpha, region.base_point, region.base_normal);
-  const double along_normal = unsupported(s.child, normal, alpha, point, normal);
-  const double along_link = core::dot(link_dir, normal) > 0.0 ? unsupported(s.child, link_dir, alpha, point, normal) : INFINITY;
-  s.direction = along_link < along_normal ? core::normalized(link_dir) : normal;
-  s.unsupported = parent_overhang + std::min(along_normal, along_link);
-  return s;
+  out.parent = detail::merged(rest);
+  const std::vector<detail::FacetSample> facets = detail::facet_samples(out.child, c.point, c.normal);
+  const Vec3 starts[] = {c.normal, s.dir, s.branch_dir, c.screened.child_direction};
+  out.direction = detail::best_direction(facets, c.normal, starts, alpha_deg);
+  out.unsupported_mm2 = detail::unsupported(out.parent, host.build_direction, alpha_deg, host.base_point, host.base_normal) +
+                        detail::unsupported(out.child, out.direction, alpha_deg, c.point, c.normal);
+  return out;
+}
+
+// The plate: the downward planar face where the centroidal axis's root branch starts (Ruan: the
+// root branch is the body the part grows from; a part on feet starts above them), else the lowest
+// such face (the larger on a tie).
+const PlanarFace* plate_face(const std::vector<PlanarFace>& faces, const CentroidalAxis& axis, Vec3 up) {
+  std::optional<double> start;
+  for (const AxisBranch& b : axis.branches) {
+    if (!b.father && !b.nodes.empty()) start = core::dot(axis.nodes[b.nodes.front()].position, up);
+  }
+  const double reach = std::max(axis.increment_mm, 1.0);
+  const PlanarFace* lowest = nullptr;
+  const PlanarFace* at_start = nullptr;
+  for (const PlanarFace& f : faces) {
+    if (f.area_mm2 < kMinPlateFaceMm2 || angle_deg(f.normal, up * -1.0) > kPlateFaceDeg) continue;
+    const double h = core::dot(f.point, up);
+    if (!lowest || h < core::dot(lowest->point, up) - kOnBaseMm ||
+        (std::fabs(h - core::dot(lowest->point, up)) <= kOnBaseMm && f.area_mm2 > lowest->area_mm2)) {
+      lowest = &f;
+    }
+    if (start && std::fabs(h - *start) <= reach &&
+        (!at_start || std::fabs(h - *start) < std::fabs(core::dot(at_start->point, up) - *start) - kOnBaseMm ||
+         (std::fabs(h - core::dot(at_start->point, up)) <= kOnBaseMm && f.area_mm2 > at_start->area_mm2))) {
+      at_start = &f;
+    }
+  }
+  return at_start ? at_start : lowest;
 }
 
 }  // namespace
 
 core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis& axis, const DecomposeOptions& options) {
+  const double alpha = options.self_supporting_deg;
   RegionTree tree;
   Region root;
   root.id = 0;
   root.build_direction = core::normalized(options.root_direction);
   root.base_normal = root.build_direction;
   root.mesh = mesh;
-  double lowest = INFINITY;
-  for (const Vec3& v : mesh.vertices) lowest = std::min(lowest, core::dot(v, root.build_direction));
-  root.base_point = root.build_direction * lowest;
-  root.rule = "plate";
-  const std::vector<PlanarFace> faces = planar_faces(mesh);
-  // The plate: the lowest planar face looking straight down (the larger on a tie). What hangs
-  // below it (knuckles under a body, a corner poking through a base plate) becomes regions built
-  // downwards from it; with no such face the plate is at the lowest point.
-  const PlanarFace* plate = nullptr;
   const Vec3 up = root.build_direction;
-  for (const PlanarFace& f : faces) {
-    if (f.area_mm2 < kMinPlateFaceMm2 || angle_deg(f.normal, up * -1.0) > kPlateFaceDeg) continue;
-    if (!plate || core::dot(f.point, up) < core::dot(plate->point, up) - kOnBaseMm ||
-        (std::fabs(core::dot(f.point, up) - core::dot(plate->point, up)) <= kOnBaseMm && f.area_mm2 > plate->area_mm2)) {
-      plate = &f;
-    }
-  }
+  double lowest = INFINITY;
+  for (const Vec3& v : mesh.vertices) lowest = std::min(lowest, core::dot(v, up));
+  root.base_point = up * lowest;
+  root.rule = "plate";
+  const std::vector<PlanarFace> faces = detail::planar_faces(mesh);
+  // What hangs below the plate (knuckles under a body, a corner poking through a base plate)
+  // becomes regions built downwards from it.
+  const PlanarFace* plate = plate_face(faces, axis, up);
   std::vector<mesh::Mesh> hanging;
-  if (plate != nullptr && core::dot(plate->point, root.build_direction) > lowest + kOnBaseMm) {
-    auto cut = mesh::cut_by_plane(mesh, plate->point, root.build_direction);
+  if (plate != nullptr && core::dot(plate->point, up) > lowest + kOnBaseMm) {
+    auto cut = mesh::cut_by_plane(mesh, plate->point, up);
     if (cut && !cut.value().above.triangles.empty()) {
       root.mesh = std::move(cut.value().above);
       root.base_point = plate->point;
-      hanging = shells_of(cut.value().below);
+      hanging = detail::shells_of(cut.value().below);
     }
   }
   tree.regions.push_back(std::move(root));
@@ -228,7 +276,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     Region r;
     r.id = static_cast<std::uint32_t>(tree.regions.size());
     r.parent = 0;
-    r.build_direction = tree.regions[0].build_direction * -1.0;
+    r.build_direction = up * -1.0;
     r.base_normal = r.build_direction;
     r.base_point = tree.regions[0].base_point;
     r.mesh = std::move(h);
@@ -236,65 +284,88 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     tree.regions.push_back(std::move(r));
   }
 
-  for (std::size_t li = 0; li < axis.links.size(); ++li) {
-    const AxisLink& link = axis.links[li];
-    if (!link.is_break) continue;
-    const Vec3 from = axis.nodes[link.from].position, to = axis.nodes[link.to].position;
-    const Vec3 dir = core::normalized(to - from);
-    // The link before the break (Ruan's father link): the previous link ending at `from`.
-    Vec3 father_dir = dir;
-    for (const AxisLink& l : axis.links) {
-      if (l.to == link.from) father_dir = core::normalized(axis.nodes[l.to].position - axis.nodes[l.from].position);
-    }
-    // The region holding the link's end.
-    std::size_t host = 0;
-    double best = -INFINITY;
-    for (std::size_t r = 0; r < tree.regions.size(); ++r) {
-      const double w = winding(tree.regions[r].mesh, to);
-      if (w > best) best = w, host = r;
-    }
-    std::optional<Split> chosen;
-    auto consider = [&](Vec3 point, Vec3 normal, const std::string& rule) {
-      auto s = try_split(tree.regions[host], point, normal, to, dir, options.self_supporting_deg, rule);
-      if (s && (!chosen || s->unsupported < chosen->unsupported - 1e-9)) chosen = std::move(s);
-    };
-    // Candidate faces: real planar faces (several facets, some area), nearest to the link first.
-    std::vector<const PlanarFace*> near;
-    for (const PlanarFace& f : faces) {
-      if (f.concave_edge && f.facets >= kMinSplitFaceFacets && f.area_mm2 >= kMinSplitFaceMm2) near.push_back(&f);
-    }
-    std::sort(near.begin(), near.end(), [&](const PlanarFace* a, const PlanarFace* b) {
-      return std::fabs(core::dot(a->point - from, a->normal)) < std::fabs(core::dot(b->point - from, b->normal));
-    });
-    std::size_t tried = 0;
-    for (const PlanarFace* fp : near) {
-      const PlanarFace& f = *fp;
-      if (tried >= kMaxSplitCandidates) break;
-      for (const Vec3 d : {dir, father_dir}) {
-        if (std::min(angle_deg(f.normal, d), angle_deg(f.normal * -1.0, d)) > options.face_normal_tolerance_deg) continue;
-        const double c = core::dot(f.point, d), lo = std::min(core::dot(from, d), core::dot(to, d)), hi = std::max(core::dot(from, d), core::dot(to, d));
-        if (c < lo - kLinkOverlapMm || c > hi + kLinkOverlapMm) continue;
-        ++tried;
-        consider(f.point, f.normal, "planar face");
+  // Per region: its overhang in its own direction and its adjacency, refreshed when it is cut.
+  std::vector<double> overhang;
+  std::vector<mesh::EdgeTopology> topology;
+  auto refresh = [&](std::size_t r) {
+    overhang.resize(tree.regions.size());
+    topology.resize(tree.regions.size());
+    const Region& g = tree.regions[r];
+    overhang[r] = detail::unsupported(g.mesh, g.build_direction, alpha, g.base_point, g.base_normal);
+    topology[r] = mesh::build_topology(g.mesh);
+  };
+  for (std::size_t r = 0; r < tree.regions.size(); ++r) refresh(r);
+
+  // Greedy, best first: every round screens every open link's candidates in the region holding the
+  // link's branch, cuts the link whose best candidate removes the most overhang, and stops when no
+  // split removes any.
+  std::vector<SplitLink> links = split_links(axis);
+  for (;;) {
+    std::size_t best_link = links.size(), best_host = 0;
+    double best_gain = 0.0;
+    std::vector<Candidate> best_candidates;
+    for (std::size_t i = 0; i < links.size(); ++i) {
+      SplitLink& s = links[i];
+      if (s.done || s.targets.empty()) continue;
+      std::size_t host = 0;
+      double nearest = INFINITY;
+      for (std::size_t r = 0; r < tree.regions.size(); ++r) {
+        const double d = distance_sum(tree.regions[r].mesh, s.targets);
+        if (d < nearest) nearest = d, host = r;
+      }
+      if (overhang[host] <= 0.0) continue;  // nothing to gain in a support-free region
+      const Region& h = tree.regions[host];
+      const detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal};
+      std::vector<Candidate> cands = candidates_for(s, mesh, faces, axis.increment_mm, options.face_normal_tolerance_deg, alpha);
+      const std::vector<std::uint32_t> seeds = detail::nearest_facets(h.mesh, s.targets);
+      for (Candidate& c : cands) {
+        const Vec3 starts[] = {c.normal, s.dir, s.branch_dir};
+        c.screened = detail::screen_split(hr, c.point, c.normal, seeds, starts, alpha);
+      }
+      std::erase_if(cands, [](const Candidate& c) { return !c.screened.valid; });
+      std::stable_sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
+        return preferred(overhang[host] - a.screened.total(), a, s.dir, overhang[host] - b.screened.total(), b, s.dir);
+      });
+      if (cands.empty()) continue;
+      const double gain = overhang[host] - cands[0].screened.total();
+      if (gain > kMinGainMm2 && (best_link == links.size() || preferred(gain, cands[0], s.dir, best_gain, best_candidates[0], links[best_link].dir))) {
+        best_gain = gain, best_link = i, best_host = host, best_candidates = std::move(cands);
       }
     }
-    if (!chosen || chosen->unsupported > 0.0) consider(from, dir, "fallback plane");
-    if (!chosen) continue;  // the plane missed the region: nothing to split at this link
+    if (best_link == links.size()) break;
+    SplitLink& s = links[best_link];
+    s.done = true;
+    const std::size_t host = best_host;
+    std::optional<ExactSplit> chosen;
+    const Candidate* used = nullptr;
+    for (std::size_t k = 0; k < best_candidates.size() && k < kExactTries; ++k) {
+      auto e = exact_split(tree.regions[host], best_candidates[k], s, alpha);
+      if (e && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
+        chosen = std::move(e), used = &best_candidates[k];
+        // The cut confirms the estimate: the later candidates were estimated no better.
+        const Candidate& c = best_candidates[k];
+        if (chosen->unsupported_mm2 <= c.screened.total() + kUnsupportedNoiseMm2) break;
+      }
+    }
+    if (!chosen) continue;  // the exact cut did not confirm the estimate: leave this link
     Region child;
     child.id = static_cast<std::uint32_t>(tree.regions.size());
     child.parent = tree.regions[host].id;
     child.build_direction = chosen->direction;
-    child.base_point = chosen->point;
-    child.base_normal = chosen->normal;
+    child.base_point = used->point;
+    child.base_normal = used->normal;
     child.mesh = std::move(chosen->child);
-    child.rule = chosen->rule;
+    child.rule = used->rule;
     tree.regions[host].mesh = std::move(chosen->parent);
     tree.regions.push_back(std::move(child));
+    refresh(host);
+    refresh(tree.regions.size() - 1);
   }
-  for (Region& r : tree.regions) {
-    r.volume_mm3 = mesh::signed_volume(r.mesh);
-    r.unsupported_area_mm2 = unsupported(r.mesh, r.build_direction, options.self_supporting_deg, r.base_point, r.base_normal);
-    r.support_free = r.unsupported_area_mm2 == 0.0;
+  for (std::size_t r = 0; r < tree.regions.size(); ++r) {
+    Region& g = tree.regions[r];
+    g.volume_mm3 = mesh::signed_volume(g.mesh);
+    g.unsupported_area_mm2 = overhang[r];
+    g.support_free = g.unsupported_area_mm2 == 0.0;
   }
   return tree;
 }

@@ -36,14 +36,25 @@ struct DecomposeOptions {
   double face_normal_tolerance_deg = 10.0;  // Ruan: the splitting face's normal within 10° of the link
 };
 
-// Splits MESH at the break links of AXIS. For each break link, in order: the candidate splitting
-// surfaces are the part's planar faces with a concave boundary edge whose normal is within the
-// tolerance of the break link's direction or of the link before it (Ruan's father link), whose
-// plane lies within the link's extent along that direction (Ruan Eq. 5), and, as the fallback, the
-// plane through the link's start perpendicular to the break link. The region holding the link's end
-// is cut by each candidate plane (capped); the piece holding the link's end becomes the child,
-// built along the plane normal pointing into it; the candidate that leaves both pieces
-// support-free (else the least unsupported area) is kept. Regions partition the part.
+// Splits MESH into regions along AXIS (Ruan 2006 §4.1, checked by overhang; docs/analyze.md):
+//  * The root is built along root_direction from the plate: the downward planar face where the
+//    axis's root branch starts (a body on feet: the body's underside), else the lowest one. Shells
+//    below the plate become regions built the opposite way.
+//  * Split links are the break links and the first link of every child branch. For each, the
+//    candidate planes are Ruan's splitting faces (planar faces with a concave boundary edge, normal
+//    within face_normal_tolerance_deg of the link or its father link, projection overlapping the
+//    link: Eq. 5), planar faces with a concave edge leaning less than 90° − α from the link, and
+//    planes across the link and the branch stepped back from the branch's first node. A cut keeps
+//    as the child only the piece holding the branch's nodes; every other piece stays with the
+//    parent, so a plane never carves up other branches.
+//  * Every candidate is screened without cutting (facet areas clipped at the plane, the child
+//    found by connectivity); greedily, the split removing the most overhang is cut exactly (CGAL,
+//    capped), ties going to Ruan's faces, then the plane most nearly across its link. The child's
+//    build direction minimises its overhang, at most 90° − α from its base's normal. Splitting
+//    stops when no split removes overhang.
+// Regions partition MESH (volumes sum to its volume) and are closed; parents come before
+// children. A region that stays unsupported says so (support_free false, its area). Cost: O(F) per
+// candidate screened plus one or a few CGAL cuts per region made; milliseconds for the reference parts.
 core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis& axis, const DecomposeOptions& options = {});
 
 }  // namespace polyaxis::analysis

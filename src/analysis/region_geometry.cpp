@@ -1,0 +1,171 @@
+#include "region_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "polyaxis/core/tolerances.h"
+#include "polyaxis/mesh/repair.h"
+#include "polyaxis/mesh/topology.h"
+
+namespace polyaxis::analysis::detail {
+namespace {
+
+// Facets whose unit normals differ by less than this (and share an edge) belong to one planar face.
+constexpr double kCoplanarCos = 0.9999999;
+// A neighbour's far corner this far above a face's plane makes the shared edge concave, mm.
+constexpr double kConcaveRiseMm = 1e-9;
+
+}  // namespace
+
+// Ericson, Real-Time Collision Detection §5.1.5 (closest point on a triangle).
+double distance2_to_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = core::dot(ab, ap), d2 = core::dot(ac, ap);
+  auto d2to = [&](Vec3 q) { return core::dot(p - q, p - q); };
+  if (d1 <= 0.0 && d2 <= 0.0) return d2to(a);
+  const Vec3 bp = p - b;
+  const double d3 = core::dot(ab, bp), d4 = core::dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return d2to(b);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return d2to(a + ab * (d1 / (d1 - d3)));
+  const Vec3 cp = p - c;
+  const double d5 = core::dot(ab, cp), d6 = core::dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return d2to(c);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return d2to(a + ac * (d2 / (d2 - d6)));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return d2to(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+  const double denom = 1.0 / (va + vb + vc);
+  return d2to(a + ab * (vb * denom) + ac * (vc * denom));
+}
+
+std::vector<PlanarFace> planar_faces(const mesh::Mesh& m) {
+  const mesh::EdgeTopology topo = mesh::build_topology(m);
+  const std::size_t nf = m.triangles.size();
+  std::vector<Vec3> normal(nf);
+  for (std::size_t f = 0; f < nf; ++f) normal[f] = core::normalized(mesh::face_area_vector(m, f));
+  std::vector<std::uint32_t> face_of(nf, mesh::kNoHalfEdge);
+  std::vector<PlanarFace> faces;
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t seed = 0; seed < nf; ++seed) {
+    if (face_of[seed] != mesh::kNoHalfEdge) continue;
+    const auto id = static_cast<std::uint32_t>(faces.size());
+    PlanarFace face{normal[seed], m.corner(seed, 0), 0.0, 0, false, {}};
+    stack.assign(1, seed);
+    face_of[seed] = id;
+    while (!stack.empty()) {
+      const std::uint32_t f = stack.back();
+      stack.pop_back();
+      face.area_mm2 += core::norm(mesh::face_area_vector(m, f)) / 2.0;
+      ++face.facets;
+      face.facet_ids.push_back(f);
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t o = topo.opposite[3 * f + k];
+        if (o == mesh::kNoHalfEdge) continue;
+        const std::uint32_t g = o / 3;
+        if (core::dot(normal[g], face.normal) >= kCoplanarCos) {
+          if (face_of[g] == mesh::kNoHalfEdge) {
+            face_of[g] = id;
+            stack.push_back(g);
+          }
+          continue;
+        }
+        const Vec3 far = m.vertices[m.triangles[g][(o % 3 + 2) % 3]];
+        if (core::dot(far - face.point, face.normal) > kConcaveRiseMm) face.concave_edge = true;
+      }
+    }
+    faces.push_back(std::move(face));
+  }
+  return faces;
+}
+
+double angle_deg(Vec3 a, Vec3 b) {
+  return std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kPi;
+}
+
+double winding(const mesh::Mesh& m, Vec3 p) {
+  double omega = 0.0;
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+    const Vec3 a = m.corner(f, 0) - p, b = m.corner(f, 1) - p, c = m.corner(f, 2) - p;
+    const double la = core::norm(a), lb = core::norm(b), lc = core::norm(c);
+    omega += 2.0 * std::atan2(core::dot(a, core::cross(b, c)),
+                              la * lb * lc + core::dot(a, b) * lc + core::dot(a, c) * lb + core::dot(b, c) * la);
+  }
+  return omega / (4.0 * kPi);
+}
+
+double distance_to_solid(const mesh::Mesh& m, Vec3 p) {
+  if (m.triangles.empty()) return INFINITY;
+  if (winding(m, p) > core::kInsideWindingNumber) return 0.0;
+  double best = INFINITY;
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) best = std::min(best, distance2_to_triangle(p, m.corner(f, 0), m.corner(f, 1), m.corner(f, 2)));
+  return std::sqrt(best);
+}
+
+double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_point, Vec3 base_normal) {
+  const Vec3 dn = core::normalized(d), bn = core::normalized(base_normal);
+  const double limit = -std::sin(alpha_deg * kPi / 180.0);
+  const std::size_t nf = m.triangles.size();
+  std::vector<double> area(nf, 0.0);  // > 0 for an overhanging facet
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Vec3 n2 = mesh::face_area_vector(m, f);
+    const double len = core::norm(n2);
+    if (len == 0.0 || core::dot(n2, dn) >= limit * len) continue;
+    bool on_base = true;
+    for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(m.corner(f, k) - base_point, bn)) <= kOnBaseMm;
+    if (!on_base) area[f] = len / 2.0;
+  }
+  // Patches of overhanging facets joined across edges; each counts only from the noise floor up.
+  const mesh::EdgeTopology topo = mesh::build_topology(m);
+  std::vector<char> seen(nf, 0);
+  std::vector<std::uint32_t> stack;
+  double total = 0.0;
+  for (std::uint32_t seed = 0; seed < nf; ++seed) {
+    if (area[seed] <= 0.0 || seen[seed]) continue;
+    double patch = 0.0;
+    seen[seed] = 1;
+    stack.assign(1, seed);
+    while (!stack.empty()) {
+      const std::uint32_t f = stack.back();
+      stack.pop_back();
+      patch += area[f];
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t o = topo.opposite[3 * f + k];
+        if (o == mesh::kNoHalfEdge || seen[o / 3] || area[o / 3] <= 0.0) continue;
+        seen[o / 3] = 1;
+        stack.push_back(o / 3);
+      }
+    }
+    if (patch >= kUnsupportedNoiseMm2) total += patch;
+  }
+  return total;
+}
+
+std::vector<mesh::Mesh> shells_of(const mesh::Mesh& piece) {
+  std::vector<mesh::Mesh> out;
+  if (piece.triangles.empty()) return out;
+  mesh::RepairOptions o;
+  o.check_self_intersections = false;
+  o.max_hole_edges = 0;
+  auto r = mesh::repair(io::RawMesh{piece.vertices, piece.triangles}, o);
+  if (!r) return out;
+  for (const mesh::Shell& s : r.value().shells) {
+    mesh::Mesh m;
+    m.vertices = r.value().mesh.vertices;
+    m.triangles.assign(r.value().mesh.triangles.begin() + s.first_face, r.value().mesh.triangles.begin() + s.first_face + s.face_count);
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+mesh::Mesh merged(const std::vector<mesh::Mesh>& parts) {
+  mesh::Mesh out;
+  for (const mesh::Mesh& p : parts) {
+    const auto base = static_cast<std::uint32_t>(out.vertices.size());
+    out.vertices.insert(out.vertices.end(), p.vertices.begin(), p.vertices.end());
+    for (auto t : p.triangles) out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  return out;
+}
+
+}  // namespace polyaxis::analysis::detail

@@ -1,0 +1,59 @@
+// Geometry helpers of the decomposition (decompose.cpp, split_screen.cpp): planar faces, inside
+// tests, distances, overhang of a region in its own direction, shells. Private to the analysis module.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "polyaxis/core/vec3.h"
+#include "polyaxis/mesh/mesh.h"
+
+namespace polyaxis::analysis::detail {
+
+using core::Vec3;
+
+inline constexpr double kPi = 3.14159265358979323846;
+// A facet within this of a region's base plane rests on it (the parent or the plate), mm.
+inline constexpr double kOnBaseMm = 1e-6;
+// An overhang patch (overhanging facets joined across edges) smaller than this is the cut's own
+// noise: the sliver a plane leaves where it grazes a tessellated curve (a wall cut along one facet
+// of a cylinder keeps films up to the chordal deviation thick over the neighbouring facets), mm².
+// A single bead (about 1 mm wide) bridges far more.
+inline constexpr double kUnsupportedNoiseMm2 = 0.25;
+
+struct PlanarFace {
+  Vec3 normal;  // unit, outward
+  Vec3 point;   // a corner of one of its facets
+  double area_mm2 = 0.0;
+  std::uint32_t facets = 0;
+  bool concave_edge = false;  // a neighbouring facet across its boundary rises above its plane
+  std::vector<std::uint32_t> facet_ids;
+};
+
+// Planar faces of M: coplanar facets joined across shared edges. Cost O(F).
+std::vector<PlanarFace> planar_faces(const mesh::Mesh& m);
+
+double angle_deg(Vec3 a, Vec3 b);
+
+// Generalised winding number of M at P: about 1 inside a closed outward mesh, 0 outside. O(F).
+double winding(const mesh::Mesh& m, Vec3 p);
+
+// Distance from P to the solid bounded by M: 0 inside (winding), else to the nearest facet. O(F).
+double distance_to_solid(const mesh::Mesh& m, Vec3 p);
+
+// Squared distance from P to the triangle ABC, mm².
+double distance2_to_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c);
+
+// Overhang area of M built along D at the self-supporting angle ALPHA_DEG, not counting facets on
+// the base plane (BASE_POINT, BASE_NORMAL): they rest on the parent region or the plate.
+// (mesh::overhang_area would count a base that is not perpendicular to D.) Patches below
+// kUnsupportedNoiseMm2 are not counted. O(F).
+double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_point, Vec3 base_normal);
+
+// The shells of a closed mesh, as separate closed meshes (mesh::repair groups faces by shell).
+std::vector<mesh::Mesh> shells_of(const mesh::Mesh& piece);
+
+// The meshes PARTS as one mesh (vertices not shared).
+mesh::Mesh merged(const std::vector<mesh::Mesh>& parts);
+
+}  // namespace polyaxis::analysis::detail

@@ -1,0 +1,220 @@
+#include "split_screen.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "region_geometry.h"
+
+namespace polyaxis::analysis::detail {
+namespace {
+
+// A vertex within this of the cut plane is on it, mm (the same as a facet resting on a base).
+constexpr double kOnPlaneMm = kOnBaseMm;
+// The direction search aims this far inside the self-supporting limit, degrees.
+constexpr double kDirectionMarginDeg = 2.0;
+// Pattern search: first and last step, degrees, and the cap on moves.
+constexpr double kSearchStartDeg = 16.0;
+// A candidate's child direction is only estimated while screening, to this step, degrees.
+constexpr double kScreenSearchEndDeg = 2.0;
+constexpr int kMaxSearchMoves = 200;
+
+double depth_of(std::span<const FacetSample> facets, Vec3 d, double alpha_deg) {
+  const double limit = -std::sin(alpha_deg * kPi / 180.0);
+  double depth = 0.0;
+  for (const FacetSample& f : facets) depth += f.area_mm2 * std::max(0.0, limit - core::dot(f.normal, d));
+  return depth;
+}
+
+// Screening sums the child's facets into at most 6·kNormalBins² normal bins (cube map), each with
+// its area-weighted mean normal, once it has more facets than that: the overhang depends only on
+// normals and areas, and the bins keep the direction search O(bins) on large meshes.
+constexpr int kNormalBins = 24;
+
+std::vector<FacetSample> binned(const std::vector<FacetSample>& facets) {
+  constexpr std::size_t kBins = 6 * kNormalBins * kNormalBins;
+  if (facets.size() <= kBins) return facets;
+  std::vector<Vec3> sum(kBins);
+  std::vector<double> area(kBins, 0.0);
+  for (const FacetSample& f : facets) {
+    const Vec3 n = f.normal;
+    const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
+    int face = 0;
+    double u = 0.0, v = 0.0, m = 0.0;
+    if (ax >= ay && ax >= az) face = n.x > 0 ? 0 : 1, u = n.y, v = n.z, m = ax;
+    else if (ay >= az) face = n.y > 0 ? 2 : 3, u = n.x, v = n.z, m = ay;
+    else face = n.z > 0 ? 4 : 5, u = n.x, v = n.y, m = az;
+    auto cell = [](double t) { return std::clamp(static_cast<int>((t + 1.0) / 2.0 * kNormalBins), 0, kNormalBins - 1); };
+    const auto b = static_cast<std::size_t>((face * kNormalBins + cell(u / m)) * kNormalBins + cell(v / m));
+    sum[b] = sum[b] + n * f.area_mm2;
+    area[b] += f.area_mm2;
+  }
+  std::vector<FacetSample> out;
+  for (std::size_t b = 0; b < kBins; ++b) {
+    if (area[b] > 0.0) out.push_back({core::normalized(sum[b]), area[b]});
+  }
+  return out;
+}
+
+Vec3 any_perpendicular(Vec3 v) {
+  const Vec3 a = std::fabs(v.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  return core::normalized(core::cross(v, a));
+}
+
+// Area of the part of triangle ABC where the signed distances S are >= 0, mm².
+double positive_area(const Vec3 (&p)[3], const double (&s)[3], Vec3 unit_normal) {
+  Vec3 poly[4];
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int j = (k + 1) % 3;
+    if (s[k] >= 0.0) poly[n++] = p[k];
+    if ((s[k] > 0.0 && s[j] < 0.0) || (s[k] < 0.0 && s[j] > 0.0)) poly[n++] = p[k] + (p[j] - p[k]) * (s[k] / (s[k] - s[j]));
+  }
+  Vec3 area{};
+  for (int k = 1; k + 1 < n; ++k) area = area + core::cross(poly[k] - poly[0], poly[k + 1] - poly[0]);
+  return std::max(0.0, core::dot(area, unit_normal) / 2.0);
+}
+
+}  // namespace
+
+std::vector<FacetSample> facet_samples(const mesh::Mesh& m, Vec3 base_point, Vec3 base_normal) {
+  std::vector<FacetSample> out;
+  out.reserve(m.triangles.size());
+  const Vec3 bn = core::normalized(base_normal);
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+    const Vec3 a2 = mesh::face_area_vector(m, f);
+    const double len = core::norm(a2);
+    if (len == 0.0) continue;
+    bool on_base = true;
+    for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(m.corner(f, k) - base_point, bn)) <= kOnBaseMm;
+    if (!on_base) out.push_back({a2 / len, len / 2.0});
+  }
+  return out;
+}
+
+double overhang_of(std::span<const FacetSample> facets, Vec3 d, double alpha_deg) {
+  const double limit = -std::sin(alpha_deg * kPi / 180.0);
+  double area = 0.0;
+  for (const FacetSample& f : facets) area += core::dot(f.normal, d) < limit ? f.area_mm2 : 0.0;
+  return area;
+}
+
+Vec3 best_direction(std::span<const FacetSample> facets, Vec3 base_normal, std::span<const Vec3> starts, double alpha_deg,
+                    double finest_step_deg) {
+  const Vec3 bn = core::normalized(base_normal);
+  const double strict = alpha_deg - kDirectionMarginDeg;
+  const double min_cos = std::cos(max_base_tilt_deg(alpha_deg) * kPi / 180.0);
+  Vec3 best = bn;
+  double best_depth = depth_of(facets, bn, strict);
+  for (Vec3 s : starts) {
+    s = core::normalized(s);
+    if (core::dot(s, bn) < min_cos - 1e-12) continue;
+    const double d = depth_of(facets, s, strict);
+    if (d < best_depth) best = s, best_depth = d;
+  }
+  const Vec3 best_start = best;
+  int moves = 0;
+  for (double step = kSearchStartDeg; step >= finest_step_deg && best_depth > 0.0 && moves < kMaxSearchMoves; step /= 2.0) {
+    bool moved = true;
+    while (moved && best_depth > 0.0 && moves < kMaxSearchMoves) {
+      moved = false;
+      const Vec3 u = any_perpendicular(best), v = core::cross(best, u);
+      const double c = std::cos(step * kPi / 180.0), s = std::sin(step * kPi / 180.0);
+      for (int k = 0; k < 8; ++k) {
+        const double phi = k * kPi / 4.0;
+        const Vec3 probe = core::normalized(best * c + (u * std::cos(phi) + v * std::sin(phi)) * s);
+        if (core::dot(probe, bn) < min_cos) continue;
+        const double d = depth_of(facets, probe, strict);
+        if (d < best_depth) {
+          best = probe, best_depth = d, moved = true;
+          ++moves;
+          break;
+        }
+      }
+    }
+  }
+  // A probe within the margin may still leave facets past the true limit (the depth is a sum): keep
+  // the best start instead when it overhangs less at the real angle.
+  return overhang_of(facets, best_start, alpha_deg) < overhang_of(facets, best, alpha_deg) ? best_start : best;
+}
+
+std::vector<std::uint32_t> nearest_facets(const mesh::Mesh& m, std::span<const Vec3> targets) {
+  std::vector<std::uint32_t> out;
+  for (const Vec3& t : targets) {
+    double best = INFINITY;
+    std::uint32_t pick = 0;
+    for (std::uint32_t f = 0; f < m.triangles.size(); ++f) {
+      const double d2 = distance2_to_triangle(t, m.corner(f, 0), m.corner(f, 1), m.corner(f, 2));
+      if (d2 < best) best = d2, pick = f;
+    }
+    if (best < INFINITY) out.push_back(pick);
+  }
+  return out;
+}
+
+Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span<const std::uint32_t> seeds,
+                      std::span<const Vec3> direction_starts, double alpha_deg) {
+  Screened out;
+  const mesh::Mesh& m = *host.mesh;
+  const std::size_t nv = m.vertices.size(), nf = m.triangles.size();
+  std::vector<double> s(nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const double d = core::dot(m.vertices[v] - point, normal);
+    s[v] = std::fabs(d) <= kOnPlaneMm ? 0.0 : d;
+  }
+  auto touches = [&](std::size_t f) { return s[m.triangles[f][0]] > 0.0 || s[m.triangles[f][1]] > 0.0 || s[m.triangles[f][2]] > 0.0; };
+  std::vector<char> reached(nf, 0);
+  std::vector<std::uint32_t> stack;
+  for (const std::uint32_t f : seeds) {
+    if (touches(f) && !reached[f]) reached[f] = 1, stack.push_back(f);
+  }
+  if (stack.empty()) return out;
+  while (!stack.empty()) {
+    const std::uint32_t f = stack.back();
+    stack.pop_back();
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t o = host.topology->opposite[3 * f + k];
+      if (o == mesh::kNoHalfEdge) continue;
+      const std::uint32_t g = o / 3;
+      if (reached[g] || !touches(g)) continue;
+      if (std::max(s[m.triangles[f][k]], s[m.triangles[f][(k + 1) % 3]]) <= 0.0) continue;  // the edge is not on the child side
+      reached[g] = 1;
+      stack.push_back(g);
+    }
+  }
+  const double limit = -std::sin(alpha_deg * kPi / 180.0);
+  const Vec3 hd = core::normalized(host.direction), hb = core::normalized(host.base_normal);
+  std::vector<FacetSample> child;
+  double child_cap_mm2 = 0.0, parent_area = 0.0;
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Vec3 a2 = mesh::face_area_vector(m, f);
+    const double len = core::norm(a2);
+    if (len == 0.0) continue;
+    const Vec3 n = a2 / len;
+    double in_child = 0.0;
+    if (reached[f]) {
+      const Vec3 p[3] = {m.corner(f, 0), m.corner(f, 1), m.corner(f, 2)};
+      const double sv[3] = {s[m.triangles[f][0]], s[m.triangles[f][1]], s[m.triangles[f][2]]};
+      in_child = std::min(len / 2.0, positive_area(p, sv, n));
+      if (in_child > 0.0) child.push_back({n, in_child});
+      child_cap_mm2 += in_child * core::dot(n, normal);
+    }
+    const double in_parent = len / 2.0 - in_child;
+    if (in_parent <= 0.0) continue;
+    parent_area += in_parent;
+    bool on_base = true;
+    for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(m.corner(f, k) - host.base_point, hb)) <= kOnBaseMm;
+    if (!on_base && core::dot(n, hd) < limit) out.parent_mm2 += in_parent;
+  }
+  if (child.empty() || parent_area <= kUnsupportedNoiseMm2) return out;
+  // The cap closes both pieces; the parent's copy faces the child (+NORMAL). It rests on nothing
+  // while the parent is built unless it lies on the parent's own base.
+  const bool cap_on_base = std::fabs(core::dot(normal, hb)) > 1.0 - 1e-9 && std::fabs(core::dot(point - host.base_point, hb)) <= kOnBaseMm;
+  if (!cap_on_base && core::dot(normal, hd) < limit) out.parent_mm2 += std::max(0.0, child_cap_mm2);
+  const std::vector<FacetSample> bins = binned(child);
+  out.child_direction = best_direction(bins, normal, direction_starts, alpha_deg, kScreenSearchEndDeg);
+  out.child_mm2 = overhang_of(child, out.child_direction, alpha_deg);
+  out.valid = true;
+  return out;
+}
+
+}  // namespace polyaxis::analysis::detail

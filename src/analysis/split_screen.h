@@ -1,0 +1,66 @@
+// Cheap evaluation of a candidate plane split of a region, before the exact (CGAL) cut, and the
+// choice of a region's build direction. Private to the analysis module (decompose.cpp).
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "polyaxis/core/vec3.h"
+#include "polyaxis/mesh/mesh.h"
+#include "polyaxis/mesh/topology.h"
+
+namespace polyaxis::analysis::detail {
+
+using core::Vec3;
+
+// A region's base may lean from its build direction D by at most 90° − α (α the self-supporting
+// angle): beyond that the base itself, seen along D, would face sideways rather than down and
+// would not rest on the parent. Ruan's splitting faces are within 10°; an inclined bar (35°) grows
+// along its own axis from the flat face it stands on.
+inline double max_base_tilt_deg(double alpha_deg) { return 90.0 - alpha_deg; }
+
+struct FacetSample {
+  Vec3 normal;      // unit, outward
+  double area_mm2;
+};
+
+// The facets of M as samples, leaving out those on the plane (BASE_POINT, BASE_NORMAL).
+std::vector<FacetSample> facet_samples(const mesh::Mesh& m, Vec3 base_point, Vec3 base_normal);
+
+// Overhang area of FACETS built along unit D at ALPHA_DEG (no noise threshold), mm².
+double overhang_of(std::span<const FacetSample> facets, Vec3 d, double alpha_deg);
+
+// The build direction for a region with surface FACETS (its base left out) grown from a base with
+// unit normal BASE_NORMAL: the start direction (STARTS, in order of preference) with the least
+// overhang; while some overhang remains, a pattern search over directions within max_base_tilt_deg of
+// BASE_NORMAL minimising the overhang depth Σ area·max(0, −sin α' − n·d), α' = α − a small margin
+// (so a direction that clears the limit does so with some room). Cost O(F) per probe, ~100 probes.
+// FINEST_STEP_DEG ends the search (a coarser end is for screening).
+Vec3 best_direction(std::span<const FacetSample> facets, Vec3 base_normal, std::span<const Vec3> starts, double alpha_deg,
+                    double finest_step_deg = 0.25);
+
+// For each of TARGETS, the facet of M nearest to it. O(F) per target.
+std::vector<std::uint32_t> nearest_facets(const mesh::Mesh& m, std::span<const Vec3> targets);
+
+struct Screened {
+  bool valid = false;        // the plane splits the region and the child side holds a target
+  double parent_mm2 = 0.0;   // the parent's overhang in its own direction, cap included
+  double child_mm2 = 0.0;    // the child's overhang along child_direction
+  Vec3 child_direction;
+  double total() const { return parent_mm2 + child_mm2; }
+};
+
+struct HostRegion {
+  const mesh::Mesh* mesh;
+  const mesh::EdgeTopology* topology;
+  Vec3 direction, base_point, base_normal;
+};
+
+// Estimates the split of HOST by the plane (POINT, unit NORMAL pointing to the child side): the
+// child is the surface on the normal side connected to SEEDS (nearest_facets of the branch's
+// points; those not on the child side are left out); every other part stays with the parent. Facet areas are clipped exactly at
+// the plane; pieces touching only through the cap are not joined (the exact cut does). Cost O(F).
+Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span<const std::uint32_t> seeds,
+                      std::span<const Vec3> direction_starts, double alpha_deg);
+
+}  // namespace polyaxis::analysis::detail

@@ -1,0 +1,100 @@
+// The full analysis pipeline of `polyaxis analyze` (repair, centroidal axis, decomposition) and the
+// checks every decomposition must pass, shared by the decomposition tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "polyaxis/analysis/centroidal_axis.h"
+#include "polyaxis/analysis/decompose.h"
+#include "polyaxis/io/read_part.h"
+#include "polyaxis/mesh/properties.h"
+#include "polyaxis/mesh/repair.h"
+#include "polyaxis/mesh/topology.h"
+
+namespace polyaxis::analysis::test {
+
+inline constexpr double kTestPi = 3.14159265358979323846;
+// Directions are expected within 5° (parts/README.md); volumes sum to the part within 0.1%.
+inline constexpr double kDirectionToleranceDeg = 5.0;
+inline constexpr double kVolumeRelTolerance = 1e-3;
+
+inline double angle_between_deg(Vec3 a, Vec3 b) {
+  return std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kTestPi;
+}
+
+// Repair as `polyaxis analyze` does (no self-intersection pass).
+inline mesh::RepairedMesh repaired(io::RawMesh raw) {
+  mesh::RepairOptions o;
+  o.check_self_intersections = false;
+  auto r = mesh::repair(std::move(raw), o);
+  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+  return std::move(r.value());
+}
+
+inline mesh::RepairedMesh reference_part(const std::string& name) {
+  auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/" + name + ".stl");
+  EXPECT_TRUE(read.ok());
+  return repaired(std::move(read.value().mesh));
+}
+
+// Centroidal axis along +Z, then the decomposition, with the defaults of `polyaxis analyze`.
+inline RegionTree pipeline(const mesh::RepairedMesh& part) {
+  CentroidalAxisOptions ao;
+  ao.start_direction = {0, 0, 1};
+  auto axis = centroidal_axis(part.mesh, part.topology, ao);
+  EXPECT_TRUE(axis.ok());
+  DecomposeOptions dopt;
+  auto tree = decompose(part.mesh, axis.value(), dopt);
+  EXPECT_TRUE(tree.ok());
+  return std::move(tree.value());
+}
+
+// Closed regions, parents first, volumes summing to the part's.
+inline void expect_partition(const RegionTree& tree, const mesh::Mesh& part) {
+  const double volume = mesh::signed_volume(part);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < tree.regions.size(); ++i) {
+    const Region& r = tree.regions[i];
+    EXPECT_EQ(r.id, i);
+    EXPECT_TRUE(mesh::build_topology(r.mesh).closed()) << "region " << r.id;
+    EXPECT_GT(r.volume_mm3, 0.0) << "region " << r.id;
+    if (i == 0) {
+      EXPECT_FALSE(r.parent.has_value());
+    } else {
+      ASSERT_TRUE(r.parent.has_value());
+      EXPECT_LT(*r.parent, r.id);
+    }
+    sum += r.volume_mm3;
+  }
+  EXPECT_NEAR(sum, volume, kVolumeRelTolerance * volume);
+}
+
+// Each expected direction matched by its own region within the tolerance; returns the region ids
+// in the order of EXPECTED (or -1 where none matched).
+inline std::vector<int> match_directions(const RegionTree& tree, const std::vector<Vec3>& expected) {
+  std::vector<int> out;
+  std::vector<char> used(tree.regions.size(), 0);
+  for (const Vec3& e : expected) {
+    int pick = -1;
+    double best = kDirectionToleranceDeg;
+    for (std::size_t i = 0; i < tree.regions.size(); ++i) {
+      const double a = angle_between_deg(tree.regions[i].build_direction, e);
+      if (!used[i] && a < best) best = a, pick = static_cast<int>(i);
+    }
+    EXPECT_GE(pick, 0) << "no region builds along (" << e.x << ", " << e.y << ", " << e.z << ")";
+    if (pick >= 0) used[static_cast<std::size_t>(pick)] = 1;
+    out.push_back(pick);
+  }
+  return out;
+}
+
+inline void expect_support_free(const RegionTree& tree) {
+  for (const Region& r : tree.regions) EXPECT_TRUE(r.support_free) << "region " << r.id << ": " << r.unsupported_area_mm2 << " mm2";
+}
+
+}  // namespace polyaxis::analysis::test

@@ -1,0 +1,135 @@
+// The full pipeline on parts the test builds (other sizes, angles and numbers of branches than the
+// reference parts), with the same checks: region count, directions within 5°, volumes summing to
+// the part, support-free regions.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "decompose_checks.h"
+#include "support/mesh_union.h"
+#include "support/meshes.h"
+
+namespace polyaxis::analysis::test {
+namespace {
+
+using io::RawMesh;
+
+RawMesh transformed(RawMesh m, const std::function<Vec3(Vec3)>& f) {
+  for (Vec3& p : m.points) p = f(p);
+  return m;
+}
+
+// Rotation by DEG about the axis through the origin along Y (x towards −z for positive DEG is
+// OpenSCAD's rotate([0, DEG, 0])) or Z.
+Vec3 rotate_y(Vec3 p, double deg) {
+  const double c = std::cos(deg * kTestPi / 180.0), s = std::sin(deg * kTestPi / 180.0);
+  return {c * p.x + s * p.z, p.y, -s * p.x + c * p.z};
+}
+Vec3 rotate_z(Vec3 p, double deg) {
+  const double c = std::cos(deg * kTestPi / 180.0), s = std::sin(deg * kTestPi / 180.0);
+  return {c * p.x - s * p.y, s * p.x + c * p.y, p.z};
+}
+
+// A prism of N sides around Z (radius R to its corners), z in [z0, z1], outward.
+RawMesh prism_z(double r, std::uint32_t n, double z0, double z1) {
+  RawMesh m;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double a = 2.0 * kTestPi * i / n;
+    m.points.push_back({r * std::cos(a), r * std::sin(a), z0});
+    m.points.push_back({r * std::cos(a), r * std::sin(a), z1});
+  }
+  const auto bottom = static_cast<std::uint32_t>(m.points.size());
+  m.points.push_back({0, 0, z0});
+  m.points.push_back({0, 0, z1});
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t j = (i + 1) % n;
+    m.triangles.push_back({2 * i, 2 * j, 2 * j + 1});
+    m.triangles.push_back({2 * i, 2 * j + 1, 2 * i + 1});
+    m.triangles.push_back({bottom, 2 * j, 2 * i});
+    m.triangles.push_back({bottom + 1, 2 * i + 1, 2 * j + 1});
+  }
+  return m;
+}
+
+TEST(DecomposeGenerated, LBlockWithAnotherArm) {
+  // Column 16 x 16 x 50; arm 56 long, 16 high at the top, reaching +X.
+  const auto part = repaired(polyaxis::test::mesh_union(polyaxis::test::box({0, 0, 0}, {16, 16, 50}),
+                                                        polyaxis::test::box({0, 0, 34}, {56, 16, 50})));
+  const RegionTree tree = pipeline(part);
+  ASSERT_EQ(tree.regions.size(), 2u);
+  expect_partition(tree, part.mesh);
+  const auto ids = match_directions(tree, {{0, 0, 1}, {1, 0, 0}});
+  EXPECT_EQ(ids[0], 0);
+  EXPECT_NEAR(tree.regions[0].volume_mm3, 16.0 * 16.0 * 50.0, 13.0);
+  EXPECT_NEAR(tree.regions[1].volume_mm3, 40.0 * 16.0 * 16.0, 11.0);
+  expect_support_free(tree);
+}
+
+class LeaningBar : public ::testing::TestWithParam<double> {};
+
+TEST_P(LeaningBar, BuildsAlongItsIncline) {
+  const double lean = GetParam();
+  const double s = std::sin(lean * kTestPi / 180.0);
+  // A 10 x 16 x 50 bar leaning LEAN degrees towards +X, its bottom end inside a 70 x 30 x 10 plate
+  // (the end's upper edge at z = 8).
+  const RawMesh bar = transformed(polyaxis::test::box({0, 0, 0}, {10, 16, 50}),
+                                  [&](Vec3 p) { return rotate_y(p, lean) + Vec3{12, 7, 8}; });
+  const auto part = repaired(polyaxis::test::mesh_union(polyaxis::test::box({0, 0, 0}, {70, 30, 10}), bar));
+  const RegionTree tree = pipeline(part);
+  ASSERT_EQ(tree.regions.size(), 2u);
+  expect_partition(tree, part.mesh);
+  const auto ids = match_directions(tree, {{0, 0, 1}, {s, 0, std::cos(lean * kTestPi / 180.0)}});
+  EXPECT_EQ(ids[0], 0);
+  expect_support_free(tree);
+}
+
+INSTANTIATE_TEST_SUITE_P(Angles, LeaningBar, ::testing::Values(40.0, 45.0));
+
+struct WallsCase {
+  std::vector<double> angles_deg;
+};
+
+class CylinderWalls : public ::testing::TestWithParam<WallsCase> {};
+
+TEST_P(CylinderWalls, EachWallBuildsRadiallyOutwards) {
+  // Cylinder r 12 (96 sides), z 0..50; walls 2 mm thick from inside the cylinder to r 32, z 5..45.
+  RawMesh m = prism_z(12.0, 96, 0.0, 50.0);
+  for (double a : GetParam().angles_deg) {
+    m = polyaxis::test::mesh_union(m, transformed(polyaxis::test::box({11, -1, 5}, {32, 1, 45}), [&](Vec3 p) { return rotate_z(p, a); }));
+  }
+  const auto part = repaired(std::move(m));
+  const RegionTree tree = pipeline(part);
+  ASSERT_EQ(tree.regions.size(), 1 + GetParam().angles_deg.size());
+  expect_partition(tree, part.mesh);
+  std::vector<Vec3> expected{{0, 0, 1}};
+  for (double a : GetParam().angles_deg) expected.push_back({std::cos(a * kTestPi / 180.0), std::sin(a * kTestPi / 180.0), 0});
+  const auto ids = match_directions(tree, expected);
+  EXPECT_EQ(ids[0], 0);
+  expect_support_free(tree);
+}
+
+INSTANTIATE_TEST_SUITE_P(Walls, CylinderWalls,
+                         ::testing::Values(WallsCase{{40.0, 160.0, 280.0}}, WallsCase{{10.0, 100.0, 190.0, 280.0}}));
+
+TEST(DecomposeGenerated, BodyWithRoundLugsAndKnucklesOfOtherSizes) {
+  // Body 50 x 24 x 16 centred; lugs r 6 along ±Y from the body's sides to |y| = 28; two knuckles
+  // 10 x 16 x 14 under the body.
+  RawMesh m = polyaxis::test::box({-25, -12, -8}, {25, 12, 8});
+  for (double sy : {-1.0, 1.0}) {
+    const RawMesh lug = transformed(prism_z(6.0, 48, 12.0, 28.0), [&](Vec3 p) { return Vec3{p.x, sy * p.z, p.y}; });
+    m = polyaxis::test::mesh_union(m, sy > 0 ? polyaxis::test::flipped(lug) : lug);  // (y, z) swapped: a mirror
+  }
+  for (double x : {-15.0, 15.0}) m = polyaxis::test::mesh_union(m, polyaxis::test::box({x - 5, -8, -22}, {x + 5, 8, -8}));
+  const auto part = repaired(std::move(m));
+  const RegionTree tree = pipeline(part);
+  ASSERT_EQ(tree.regions.size(), 5u);
+  expect_partition(tree, part.mesh);
+  const auto ids = match_directions(tree, {{0, 0, 1}, {0, 1, 0}, {0, -1, 0}, {0, 0, -1}, {0, 0, -1}});
+  EXPECT_EQ(ids[0], 0);
+  EXPECT_NEAR(tree.regions[0].volume_mm3, 50.0 * 24.0 * 16.0, 20.0);
+  expect_support_free(tree);
+}
+
+}  // namespace
+}  // namespace polyaxis::analysis::test
