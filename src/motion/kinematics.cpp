@@ -126,14 +126,16 @@ core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in
   // Rotary solutions in the math convention (tilt τ, turn φ): the axis is Rz(φ)·Rt(τ)·ẑ, which is
   // (sinφ·sinτ, −cosφ·sinτ, cosτ) about X and (cosφ·sinτ, sinφ·sinτ, cosτ) about Y.
   std::array<std::pair<double, double>, 2> branches{};  // (τ, φ) in radians
-  std::size_t n_branches = 2;
-  if (tilt_rad < kSingularTiltRad || tilt_rad > std::numbers::pi - kSingularTiltRad) {
-    // C is undefined: keep it, and tilt within that C's plane to come as close as possible.
+  const bool singular = tilt_rad < kSingularTiltRad || tilt_rad > std::numbers::pi - kSingularTiltRad;
+  if (singular) {
+    // C is undefined: keep it, and tilt within that C's plane to come as close as possible. Near
+    // a half turn (the tool upside down) τ and τ ∓ 2π are the same orientation: both are
+    // candidates, so the tilt does not swing a full turn between +180° and −180°.
     const double phi = s * prev_c * kRadPerDeg;
     const Vec3 v = rot_z(u, -phi);
     const double tau = is_a(m) ? std::atan2(-v.y, v.z) : std::atan2(v.x, v.z);
     branches[0] = {tau, phi};
-    n_branches = 1;
+    branches[1] = {tau - std::copysign(2.0 * std::numbers::pi, tau), phi};
   } else {
     const double phi = is_a(m) ? std::atan2(u.x, -u.y) : std::atan2(u.y, u.x);
     branches[0] = {tilt_rad, phi};
@@ -142,11 +144,11 @@ core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in
 
   Candidate best;
   bool have_best = false;
-  for (std::size_t b = 0; b < n_branches; ++b) {
+  for (std::size_t b = 0; b < branches.size(); ++b) {
     const auto [tau, phi] = branches[b];
     const double t_deg = s * tau * kDegPerRad;
     double c_deg = s * phi * kDegPerRad;
-    if (n_branches == 1) {
+    if (singular) {
       c_deg = prev_c;  // held exactly, not through a round trip of conversions
     } else {
       c_deg += 360.0 * std::round((prev_c - c_deg) / 360.0);  // unwrap next to the previous C

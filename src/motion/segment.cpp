@@ -98,11 +98,13 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
   if (!end) return end.error();
   std::vector<MachinePose> out;
   MachinePose from = start;
-  // Leaving the singular vertical axis (RELIABILITY O2): C was held at an arbitrary value, and the
-  // move needs another. Turning C while the tilt grows would swing the tip far off the segment, so
-  // C turns first, in place, with the axis still vertical and the tip held at P0; then the tilt.
-  if (has_rotary_axes(machine.kind) && std::abs(start.a_or_b_deg) * std::numbers::pi / 180.0 < kSingularTiltRad &&
-      end.value().c_deg != start.c_deg) {
+  // Leaving a singular axis (RELIABILITY O2: the tool along C, upright or upside down): C was
+  // held at an arbitrary value, and the move needs another. Turning C while the tilt changes would
+  // swing the tip far off the segment, so C turns first, in place, with the axis still along C and
+  // the tip held at P0; then the tilt.
+  const double start_tilt_rad = std::abs(start.a_or_b_deg) * std::numbers::pi / 180.0;
+  const bool start_singular = start_tilt_rad < kSingularTiltRad || std::abs(start_tilt_rad - std::numbers::pi) < kSingularTiltRad;
+  if (has_rotary_axes(machine.kind) && start_singular && end.value().c_deg != start.c_deg) {
     MachinePose hint = start;
     hint.c_deg = end.value().c_deg;
     auto turned = inverse(machine, p0, t0, &hint);

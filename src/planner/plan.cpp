@@ -10,12 +10,16 @@
 #include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/mesh/properties.h"
+#include "transit.h"
 
 namespace polyaxis::planner {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMaxSupportAngleDeg = 89.0;  // tan() of the grown angle stays finite
+constexpr double kMaxSupportAngleDeg = 89.0;
+// The transit sphere's radius exceeds the part's by the retract distance and this share of it more,
+// so the chords between transit points (transit.h) stay clear of the retract points' sphere.
+constexpr double kTransitMarginShare = 0.5;  // tan() of the grown angle stays finite
 // A sliver of overhang smaller than this is the polygonal sections disagreeing along a wall at
 // exactly the self-supporting angle, not material hanging in the air.
 constexpr double kPieceNoiseMm2 = 1e-3;
@@ -146,6 +150,18 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   // Program: approach from above, the layer's paths in order, retract along the tool axis.
   const double deposit_feed = process.deposit_feed_mm_s, travel_feed = process.travel_feed_mm_s;
   std::uint32_t region_id = 0;
+  // The sphere the tool crosses between regions: around the placed part, with room for the retract.
+  core::Box3 placed_box;
+  for (const PlanRegion& r : plan.placed_regions) {
+    for (const Vec3& v : r.mesh.vertices) placed_box.add(v);
+  }
+  const Vec3 sphere_centre = (placed_box.min + placed_box.max) * 0.5;
+  double sphere_radius = 0.0;
+  for (const PlanRegion& r : plan.placed_regions) {
+    for (const Vec3& v : r.mesh.vertices) sphere_radius = std::max(sphere_radius, core::norm(v - sphere_centre));
+  }
+  sphere_radius += options.retract_mm * (1.0 + kTransitMarginShare);
+  std::optional<std::uint32_t> previous_region;
   auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
     machine::ProgramPoint p;
     p.tip_part_mm = tip;
@@ -171,9 +187,20 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
       const std::string comment = path.kind == toolpath::PathKind::kPerimeter ? fmt::format("perimeter {}", path.perimeter_index) : kind;
       if (first_in_layer) {
         const toolpath::PathPoint& p0 = path.points.front();
-        push(p0.position_mm + core::normalized(p0.tool_axis) * options.retract_mm, p0.tool_axis, false, lt.layer,
-             "approach");
+        const Vec3 approach = p0.position_mm + core::normalized(p0.tool_axis) * options.retract_mm;
+        if (previous_region && *previous_region != region_id && !plan.program.empty()) {
+          // A new region, built along another direction: cross over the part (transit.h).
+          const machine::ProgramPoint last = plan.program.back();
+          bool first = true;
+          for (const TransitPoint& t :
+               transit(last.tip_part_mm, last.tool_axis_part, approach, p0.tool_axis, sphere_centre, sphere_radius)) {
+            push(t.tip, t.axis, false, lt.layer, first ? "transit" : "");
+            first = false;
+          }
+        }
+        push(approach, p0.tool_axis, false, lt.layer, "approach");
         first_in_layer = false;
+        previous_region = region_id;
       }
       for (std::size_t i = 0; i < path.points.size(); ++i) {
         const toolpath::PathPoint& p = path.points[i];

@@ -150,6 +150,72 @@ TEST(PlanLBlock, DecompositionBuildsTheArmAlongXAndIsSupportFree) {
   EXPECT_LE(nlohmann::json::parse(sim.out)["max_tip_deviation_mm"].get<double>(), 0.01);
 }
 
+// `plan --decompose`: the regions of `analyze`, each built along its own direction; between
+// regions the tool crosses over the part (planner/transit.h) and the program stays within the
+// path tolerance of the plan.
+struct Decomposed {
+  nlohmann::json report, plan;
+  double tip_deviation_mm = INFINITY;
+};
+
+Decomposed plan_decomposed(const std::string& name, const std::string& extra, const TempDir& dir) {
+  Decomposed d;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/" + name + ".stl";
+  const auto r = run_cli("plan '" + part + "' --decompose " + extra + " -o '" + dir.path().string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  if (r.exit_code != 0) return d;
+  d.report = read_json(dir / "report.json");
+  d.plan = read_json(dir / "plan.json");
+  const auto sim = run_cli("simulate '" + (dir / (name + ".ngc")).string() + "' --plan '" + (dir / "plan.json").string() + "' " +
+                           extra + " --json");
+  EXPECT_EQ(sim.exit_code, 0) << sim.err;
+  if (sim.exit_code == 0) d.tip_deviation_mm = nlohmann::json::parse(sim.out)["max_tip_deviation_mm"].get<double>();
+  return d;
+}
+
+TEST(PlanDecomposed, FiveWallsBuildRadiallyAfterTheCylinder) {
+  TempDir dir;
+  const Decomposed d = plan_decomposed("cyl_walls5", "", dir);
+  ASSERT_FALSE(d.report.is_null());
+  EXPECT_EQ(d.report["regions"].get<int>(), 6);
+  EXPECT_TRUE(d.report["support_free"].get<bool>()) << d.report["unsupported_area_mm2"];
+  EXPECT_EQ(d.report["limit_violations"].get<int>(), 0);
+  EXPECT_LE(d.tip_deviation_mm, 0.01);
+  int radial = 0;
+  for (const auto& r : d.plan["regions"]) radial += std::fabs(r["build_direction"][2].get<double>()) < 1e-6;
+  EXPECT_EQ(radial, 5);
+}
+
+TEST(PlanDecomposed, HingeNeedsATableThatTurnsUpsideDown) {
+  // The knuckles under the body build along −Z: a half turn of A, beyond ded5_ac's ±120°.
+  TempDir small;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/hinge.stl";
+  const auto refused = run_cli("plan '" + part + "' --decompose -o '" + small.path().string() + "'");
+  EXPECT_EQ(refused.exit_code, 5);
+  EXPECT_NE(refused.err.find("A = "), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(small / "hinge.ngc"));
+  TempDir dir;
+  const Decomposed d = plan_decomposed("hinge", "--set machine.limits.a.min=-180 --set machine.limits.a.max=180", dir);
+  ASSERT_FALSE(d.report.is_null());
+  EXPECT_EQ(d.report["regions"].get<int>(), 5);
+  EXPECT_TRUE(d.report["support_free"].get<bool>()) << d.report["unsupported_area_mm2"];
+  EXPECT_LE(d.tip_deviation_mm, 0.01);
+}
+
+TEST(PlanDecomposed, TwoBranchesBuildsTrunkThenEachArm) {
+  TempDir dir;
+  const Decomposed d = plan_decomposed("two_branches", "", dir);
+  ASSERT_FALSE(d.report.is_null());
+  EXPECT_EQ(d.report["regions"].get<int>(), 3);
+  EXPECT_LE(d.tip_deviation_mm, 0.01);
+  // Region 0 (the trunk) first, then the arms: layers are in region order.
+  int last_region = 0;
+  for (const auto& layer : d.plan["layers"]) {
+    EXPECT_GE(layer["region"].get<int>(), last_region);
+    last_region = layer["region"].get<int>();
+  }
+}
+
 TEST(PlanReport, SvgPerLayerHasContoursPathsAndSeams) {
   TempDir dir;
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/pen_rack.stl";

@@ -214,6 +214,22 @@ TEST(Kinematics, SingularTiltHoldsC) {
   }
 }
 
+TEST(Kinematics, UpsideDownToolTakesTheHalfTurnNearestThePreviousTilt) {
+  // With the tool along −Z the tilt is ±180°, the same orientation: the one next to the previous
+  // tilt is taken, so the table does not swing a full turn between them. C is held.
+  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC}) {
+    const MachineConfig m = five_axis(kind, false);
+    for (const double prev_tilt : {-170.0, 170.0}) {
+      const MachinePose prev{0.0, 0.0, 0.0, prev_tilt, 37.0};
+      auto pose = inverse(m, {5.0, 6.0, 7.0}, {0.0, 0.0, -1.0}, &prev);
+      ASSERT_TRUE(pose.ok()) << pose.error().message;
+      EXPECT_NEAR(pose.value().a_or_b_deg, std::copysign(180.0, prev_tilt), 1e-9);
+      EXPECT_EQ(pose.value().c_deg, 37.0);
+      EXPECT_LT(dist(forward(m, pose.value()).tip_part_mm, {5.0, 6.0, 7.0}), 1e-9);
+    }
+  }
+}
+
 TEST(Kinematics, CUnwrapsAcrossPlusMinus180) {
   for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC}) {
     const MachineConfig m = five_axis(kind, false);

@@ -68,6 +68,15 @@ TEST(Subdivide, ReorientationInPlaceKeepsTheTipStill) {
   EXPECT_GT(n, 9u);  // at least 45°/5° pieces
 }
 
+TEST(Subdivide, LeavingTheUpsideDownAxisTurnsCFirst) {
+  // The tool along −Z (tilt 180°, C undefined and held) tilting 5° towards −Y: C turns in place
+  // first, so the tip stays on the segment.
+  MachineConfig m = machine(Kinematics::kTableTiltA_RotaryC);
+  m.tilt_deg = {-180.0, 180.0};
+  const Vec3 down{0.0, 0.0, -1.0}, leaning{0.0, -std::sin(5.0 * kDeg), -std::cos(5.0 * kDeg)};
+  EXPECT_GT(check(m, {0.0, 0.0, -28.0}, down, {0.0, -4.0, -27.8}, leaning, 0.008), 1u);
+}
+
 TEST(Subdivide, PureTranslationIsOneBlock) {
   const MachineConfig m = machine(Kinematics::kTableTiltB_RotaryC);
   EXPECT_EQ(check(m, {0.0, 0.0, 0.0}, tilted(20.0, 10.0), {50.0, 20.0, 5.0}, tilted(20.0, 10.0), 0.001), 1u);
