@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "polyaxis/core/progress.h"
 #include "polyaxis/mesh/plane_cut.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/topology.h"
@@ -300,7 +301,9 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   // link's branch, cuts the link whose best candidate removes the most overhang, and stops when no
   // split removes any.
   std::vector<SplitLink> links = split_links(axis);
+  core::Progress progress("decompose", links.size());  // links decided
   for (;;) {
+    progress.update(static_cast<std::uint64_t>(std::count_if(links.begin(), links.end(), [](const SplitLink& l) { return l.done; })));
     std::size_t best_link = links.size(), best_host = 0;
     double best_gain = 0.0;
     std::vector<Candidate> best_candidates;

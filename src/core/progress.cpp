@@ -45,19 +45,19 @@ void Progress::draw(std::uint64_t done, bool last) {
   const double rate = secs > 0 ? static_cast<double>(done) / secs : 0.0;
   if (total_ == 0) {  // unknown total: the count and the rate
     if (tty) {
-      std::fprintf(stderr, "\r%-12s %llu  %.0f/s", stage_.c_str(), static_cast<unsigned long long>(done), rate);
+      std::fprintf(stderr, "\r%-12s %llu  %.3g/s", stage_.c_str(), static_cast<unsigned long long>(done), rate);
     } else {
-      std::fprintf(stderr, "%s: %llu (%.0f/s)\n", stage_.c_str(), static_cast<unsigned long long>(done), rate);
+      std::fprintf(stderr, "%s: %llu (%.3g/s)\n", stage_.c_str(), static_cast<unsigned long long>(done), rate);
     }
   } else if (tty) {
     constexpr int kWidth = 30;
     const int filled = total_ ? static_cast<int>(kWidth * static_cast<double>(done) / static_cast<double>(total_)) : 0;
     std::string bar(static_cast<std::size_t>(filled), '#');
     bar.resize(kWidth, '.');
-    std::fprintf(stderr, "\r%-12s [%s] %llu/%llu  %.0f/s", stage_.c_str(), bar.c_str(),
+    std::fprintf(stderr, "\r%-12s [%s] %llu/%llu  %.3g/s", stage_.c_str(), bar.c_str(),
                  static_cast<unsigned long long>(done), static_cast<unsigned long long>(total_), rate);
   } else {
-    std::fprintf(stderr, "%s: %llu/%llu (%.0f/s)\n", stage_.c_str(), static_cast<unsigned long long>(done),
+    std::fprintf(stderr, "%s: %llu/%llu (%.3g/s)\n", stage_.c_str(), static_cast<unsigned long long>(done),
                  static_cast<unsigned long long>(total_), rate);
   }
   std::fflush(stderr);
