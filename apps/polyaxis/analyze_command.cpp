@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "root_base_option.h"
 #include "part_options.h"
 #include "polyaxis/analysis/centroidal_axis.h"
 #include "polyaxis/analysis/decompose.h"
@@ -30,6 +31,7 @@ struct AnalyzeOptions {
   double self_supporting_deg = core::kDefaultSelfSupportingDeg;
   double voxel_mm = 0.0;
   double break_angle_deg = 30.0;
+  std::string root_base;
 };
 
 int run_analyze(const AnalyzeOptions& o) {
@@ -40,7 +42,11 @@ int run_analyze(const AnalyzeOptions& o) {
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
   report::AnalysisTimes times;
-  const core::Vec3 up{0, 0, 1};
+  auto root_base = parse_root_base(o.root_base);
+  if (!root_base) return report_error(root_base.error());
+  auto root_dir = analysis::root_direction(part.mesh, root_base.value(), {0, 0, 1});
+  if (!root_dir) return report_error(root_dir.error());
+  const core::Vec3 up = root_dir.value();
 
   auto t = Clock::now();
   const analysis::OverhangMap overhang = analysis::overhang_map(part.mesh, part.topology, up, o.self_supporting_deg * kPi / 180.0);
@@ -48,7 +54,7 @@ int run_analyze(const AnalyzeOptions& o) {
 
   t = Clock::now();
   analysis::CentroidalAxisOptions axis_options;
-  axis_options.start_direction = up;
+  axis_options.start_direction = nearest_major_direction(up);
   axis_options.break_angle_deg = o.break_angle_deg;
   auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
   if (!axis) return report_error(axis.error());
@@ -68,6 +74,7 @@ int run_analyze(const AnalyzeOptions& o) {
   t = Clock::now();
   analysis::DecomposeOptions dopt;
   dopt.root_direction = up;
+  dopt.root_base = root_base.value();
   dopt.self_supporting_deg = o.self_supporting_deg;
   auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
   if (!tree) return report_error(tree.error());
@@ -106,6 +113,7 @@ Runner add_analyze_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("analyze", "Overhangs, centroidal axis, skeleton and the region tree of a part");
   add_part_options(*cmd, o->part);
   cmd->add_option("-o,--out", o->out_dir, "Output directory")->capture_default_str();
+  add_root_base_option(*cmd, o->root_base);
   cmd->add_flag("--json", o->json, "Print analysis.json instead of one line");
   cmd->add_flag("!--no-skeleton", o->skeleton, "Skip the distance-field skeleton");
   cmd->add_option("--voxel-mm", o->voxel_mm, "Skeleton grid resolution, mm (0: the part's size / 64)")->check(CLI::Range(0.0, 1000.0));

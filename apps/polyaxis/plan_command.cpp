@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "config_options.h"
 #include "part_options.h"
+#include "root_base_option.h"
 #include "polyaxis/analysis/centroidal_axis.h"
 #include "polyaxis/analysis/decompose.h"
 #include "polyaxis/core/progress.h"
@@ -34,6 +35,7 @@ struct PlanCommandOptions {
   std::string out_dir = "plan";
   bool no_tilt = false;
   bool decompose = false;
+  std::string root_base;
   bool json = false;
   bool svg = false;
   bool html = true;
@@ -72,16 +74,24 @@ int run_plan(PlanCommandOptions& o) {
   std::size_t warnings = 0;
   for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
 
+  if (!o.root_base.empty() && !o.decompose) {
+    return report_error(core::make_error(core::ErrorCode::kUsage, "--root-base places the root region: it needs --decompose"));
+  }
   std::vector<planner::PlanRegion> regions;
   std::optional<analysis::CentroidalAxis> axis_shown;
   if (o.decompose) {
     const mesh::RepairedMesh& part = loaded.value().repaired;
+    auto root_base = parse_root_base(o.root_base);
+    if (!root_base) return report_error(root_base.error());
+    auto root_dir = analysis::root_direction(part.mesh, root_base.value(), o.plan.direction);
+    if (!root_dir) return report_error(root_dir.error());
     analysis::CentroidalAxisOptions axis_options;
-    axis_options.start_direction = o.plan.direction;
+    axis_options.start_direction = nearest_major_direction(root_dir.value());
     auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
     if (!axis) return report_error(axis.error());
     analysis::DecomposeOptions dopt;
-    dopt.root_direction = o.plan.direction;
+    dopt.root_direction = root_dir.value();
+    dopt.root_base = root_base.value();
     dopt.self_supporting_deg = process.self_supporting_deg;
     auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
     if (!tree) return report_error(tree.error());
@@ -186,6 +196,7 @@ Runner add_plan_command(CLI::App& app) {
   cmd->add_flag("--decompose", o->decompose,
                 "Split the part into regions at the centroidal axis's break links (polyaxis analyze) and build each along its own "
                 "direction, parents first");
+  add_root_base_option(*cmd, o->root_base);
   cmd->add_option("--perimeters", o->plan.perimeters, "Perimeters per island")->capture_default_str()->check(CLI::Range(0, 100));
   cmd->add_option("--path-tolerance-mm", o->chordal_mm, "Largest tool-tip deviation from the path between G-code blocks, mm")
       ->capture_default_str()->check(CLI::Range(1e-4, 1.0));

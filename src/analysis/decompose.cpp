@@ -246,12 +246,58 @@ const PlanarFace* plate_face(const std::vector<PlanarFace>& faces, const Centroi
 
 }  // namespace
 
+std::vector<BaseFace> base_faces(const mesh::Mesh& mesh) {
+  std::vector<BaseFace> out;
+  const std::vector<PlanarFace> faces = detail::planar_faces(mesh);
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const PlanarFace& f = faces[i];
+    if (f.area_mm2 >= kMinBaseFaceMm2) out.push_back({static_cast<std::uint32_t>(i), f.normal, f.point, f.area_mm2, f.facets});
+  }
+  return out;
+}
+
+namespace {
+
+core::Result<BaseFace> listed_face(const std::vector<BaseFace>& faces, std::uint32_t id) {
+  for (const BaseFace& f : faces) {
+    if (f.id == id) return f;
+  }
+  return core::make_error(core::ErrorCode::kUsage,
+                          fmt::format("--root-base: {} is not a planar face of at least {} mm2 (analysis.json lists them under "
+                                      "\"faces\")",
+                                      id, kMinBaseFaceMm2));
+}
+
+}  // namespace
+
+core::Result<Vec3> root_direction(const mesh::Mesh& mesh, const RootBase& base, Vec3 default_up) {
+  switch (base.kind) {
+    case RootBase::Kind::kAuto:
+    case RootBase::Kind::kLowest:
+      return core::normalized(default_up);
+    case RootBase::Kind::kFace: {
+      auto f = listed_face(base_faces(mesh), base.face);
+      if (!f) return f.error();
+      return f.value().normal * -1.0;
+    }
+    case RootBase::Kind::kPlane:
+      if (!core::is_finite(base.point) || !core::is_finite(base.normal) || core::norm(base.normal) < 1e-12) {
+        return core::make_error(core::ErrorCode::kUsage, "--root-base: the plane needs a finite point and a non-zero normal");
+      }
+      return core::normalized(base.normal);
+  }
+  return core::normalized(default_up);
+}
+
 core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis& axis, const DecomposeOptions& options) {
   const double alpha = options.self_supporting_deg;
   RegionTree tree;
+  tree.faces = base_faces(mesh);
+  auto root_dir = root_direction(mesh, options.root_base, options.root_direction);
+  if (!root_dir) return root_dir.error();
   Region root;
   root.id = 0;
-  root.build_direction = core::normalized(options.root_direction);
+  root.build_direction = root_dir.value();
   root.base_normal = root.build_direction;
   root.mesh = mesh;
   const Vec3 up = root.build_direction;
@@ -260,17 +306,39 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   root.base_point = up * lowest;
   root.rule = "plate";
   const std::vector<PlanarFace> faces = detail::planar_faces(mesh);
-  // What hangs below the plate (knuckles under a body, a corner poking through a base plate)
-  // becomes regions built downwards from it.
-  const PlanarFace* plate = plate_face(faces, axis, up);
+  // The base plane: the plate found from the axis, or the one pinned by options.root_base. What
+  // lies on its far side (knuckles under a body, a corner poking through a base plate) becomes
+  // regions built the opposite way from it.
+  std::optional<Vec3> base_point;
+  switch (options.root_base.kind) {
+    case RootBase::Kind::kAuto:
+      if (const PlanarFace* plate = plate_face(faces, axis, up)) base_point = plate->point;
+      break;
+    case RootBase::Kind::kLowest:
+      break;
+    case RootBase::Kind::kFace:
+      base_point = faces[options.root_base.face].point;  // listed: root_direction checked the id
+      root.rule = "root base (face)";
+      break;
+    case RootBase::Kind::kPlane:
+      base_point = options.root_base.point;
+      root.rule = "root base (plane)";
+      break;
+  }
   std::vector<mesh::Mesh> hanging;
-  if (plate != nullptr && core::dot(plate->point, up) > lowest + kOnBaseMm) {
-    auto cut = mesh::cut_by_plane(mesh, plate->point, up);
-    if (cut && !cut.value().above.triangles.empty()) {
+  if (base_point && core::dot(*base_point, up) > lowest + kOnBaseMm) {
+    auto cut = mesh::cut_by_plane(mesh, *base_point, up);
+    if (!cut || cut.value().above.triangles.empty()) {
+      if (options.root_base.kind == RootBase::Kind::kPlane || options.root_base.kind == RootBase::Kind::kFace) {
+        return core::make_error(core::ErrorCode::kUsage, "--root-base: nothing of the part lies on the root's side of that base");
+      }
+    } else {
       root.mesh = std::move(cut.value().above);
-      root.base_point = plate->point;
+      root.base_point = *base_point;
       hanging = detail::shells_of(cut.value().below);
     }
+  } else if (base_point) {
+    root.base_point = up * lowest;
   }
   tree.regions.push_back(std::move(root));
   for (mesh::Mesh& h : hanging) {

@@ -60,6 +60,11 @@ std::string analysis_json(const std::string& part, const analysis::OverhangMap& 
                        {"stl", "region_" + std::to_string(r.id) + ".stl"}});
   }
   j["regions"] = regions;
+  ordered_json faces = ordered_json::array();
+  for (const auto& f : tree.faces) {
+    faces.push_back({{"id", f.id}, {"normal", vec(f.normal)}, {"point", vec(f.point)}, {"area_mm2", f.area_mm2}, {"facets", f.facets}});
+  }
+  j["faces"] = faces;
   j["timings_s"] = {{"overhang", times.overhang_s}, {"centroidal_axis", times.axis_s}, {"skeleton", times.skeleton_s}, {"decompose", times.decompose_s}};
   return j.dump(2) + "\n";
 }

@@ -270,6 +270,29 @@ TEST(PlanErrors, BadConfigurationExitsTwoNamingTheKey) {
   EXPECT_FALSE(std::filesystem::exists("/tmp/never/l_block.ngc"));
 }
 
+TEST(PlanErrors, RootBaseIsCheckedAndNeedsDecompose) {
+  TempDir dir;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
+  auto r = run_cli("plan '" + part + "' --root-base z-min -o '" + dir.path().string() + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--decompose"), std::string::npos) << r.err;
+  r = run_cli("plan '" + part + "' --decompose --root-base 99 -o '" + dir.path().string() + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--root-base"), std::string::npos) << r.err;
+  r = run_cli("analyze '" + part + "' --root-base 1,2,3 -o '" + dir.path().string() + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir / "l_block.ngc"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "analysis.json"));
+  // Standing on the arm's end (a plane at x = 70 facing -X): the root builds along -X, and the
+  // column hangs below it, built along -Z: the table turns the part upside down.
+  r = run_cli("plan '" + part + "' --decompose --root-base 70,10,50,-1,0,0 --set machine.limits.a.min=-180 --set machine.limits.a.max=180 -o '" +
+              dir.path().string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto plan = read_json(dir / "plan.json");
+  EXPECT_NEAR(plan["regions"][0]["build_direction"][0].get<double>(), -1.0, 1e-9);
+  EXPECT_TRUE(read_json(dir / "report.json")["support_free"].get<bool>());
+}
+
 TEST(PlanErrors, MachineTooSmallExitsFiveAndWritesNothing) {
   TempDir dir;
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";

@@ -26,12 +26,48 @@ struct Region {
   std::string rule;  // how its base was found: "plate", "below the plate", "planar face", "fallback plane"
 };
 
-struct RegionTree {
-  std::vector<Region> regions;  // parents before children; regions[0] is the root
+// A planar face of the part that can carry the root region (--root-base FACE-ID).
+struct BaseFace {
+  std::uint32_t id = 0;  // stable for a given mesh: the face's index among all its planar faces
+  Vec3 normal;           // unit, outward
+  Vec3 point;            // a corner of one of its facets
+  double area_mm2 = 0.0;
+  std::uint32_t facets = 0;
 };
 
+struct RegionTree {
+  std::vector<Region> regions;  // parents before children; regions[0] is the root
+  std::vector<BaseFace> faces;  // the part's planar faces of at least kMinBaseFaceMm2, by id
+};
+
+// Planar faces smaller than this are not listed in RegionTree::faces (nor accepted as a root base).
+inline constexpr double kMinBaseFaceMm2 = 1.0;
+
+// Where the root region stands (`--root-base`).
+struct RootBase {
+  enum class Kind {
+    kAuto,    // the plate found from the axis (below)
+    kLowest,  // the lowest point along root_direction (`z-min`): nothing is cut off below it
+    kFace,    // the planar face FACE (a BaseFace id): the root builds along its inward normal
+    kPlane,   // the plane (POINT, NORMAL): the root is the side NORMAL points to, built along it
+  };
+  Kind kind = Kind::kAuto;
+  std::uint32_t face = 0;
+  Vec3 point;
+  Vec3 normal{0, 0, 1};
+};
+
+// The planar faces of MESH of at least kMinBaseFaceMm2. O(F).
+std::vector<BaseFace> base_faces(const mesh::Mesh& mesh);
+
+// The root region's build direction for BASE: DEFAULT_UP for kAuto and kLowest, the reverse of
+// the face's outward normal for kFace, the plane's normal for kPlane. kUsage naming --root-base
+// for a face id that is not listed or a zero or non-finite normal.
+core::Result<Vec3> root_direction(const mesh::Mesh& mesh, const RootBase& base, Vec3 default_up);
+
 struct DecomposeOptions {
-  Vec3 root_direction{0, 0, 1};   // build direction of the root region (its base on the plate)
+  Vec3 root_direction{0, 0, 1};   // build direction of the root region with kAuto and kLowest
+  RootBase root_base;
   double self_supporting_deg = 30.0;
   double face_normal_tolerance_deg = 10.0;  // Ruan: the splitting face's normal within 10° of the link
 };
@@ -39,7 +75,9 @@ struct DecomposeOptions {
 // Splits MESH into regions along AXIS (Ruan 2006 §4.1, checked by overhang; docs/analyze.md):
 //  * The root is built along root_direction from the plate: the downward planar face where the
 //    axis's root branch starts (a body on feet: the body's underside), else the lowest one. Shells
-//    below the plate become regions built the opposite way.
+//    below the plate become regions built the opposite way. options.root_base pins the base
+//    instead: the lowest point, a listed planar face or a plane (see RootBase); shells on the
+//    far side of a face or plane become regions built the opposite way, as below the plate.
 //  * Split links are the break links and the first link of every child branch. For each, the
 //    candidate planes are Ruan's splitting faces (planar faces with a concave boundary edge, normal
 //    within face_normal_tolerance_deg of the link or its father link, projection overlapping the

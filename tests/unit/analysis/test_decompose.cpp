@@ -192,3 +192,87 @@ TEST(DecomposePipeline, TwoBranchesTrunkAndTwoArms) {
 
 }  // namespace
 }  // namespace polyaxis::analysis::test
+
+namespace polyaxis::analysis {
+namespace {
+
+// --root-base: the root stands where the user says.
+RegionTree pinned(const mesh::RepairedMesh& part, const RootBase& base) {
+  auto up = root_direction(part.mesh, base, {0, 0, 1});
+  EXPECT_TRUE(up.ok());
+  CentroidalAxisOptions ao;
+  const Vec3 d = up.value();
+  ao.start_direction = std::fabs(d.z) >= std::fabs(d.x) && std::fabs(d.z) >= std::fabs(d.y) ? Vec3{0, 0, d.z < 0 ? -1.0 : 1.0}
+                       : std::fabs(d.y) >= std::fabs(d.x)                                    ? Vec3{0, d.y < 0 ? -1.0 : 1.0, 0}
+                                                                                             : Vec3{d.x < 0 ? -1.0 : 1.0, 0, 0};
+  auto axis = centroidal_axis(part.mesh, part.topology, ao);
+  EXPECT_TRUE(axis.ok());
+  DecomposeOptions o;
+  o.root_base = base;
+  auto tree = decompose(part.mesh, axis.value(), o);
+  EXPECT_TRUE(tree.ok()) << tree.error().message;
+  return tree.value();
+}
+
+TEST(DecomposeRootBase, LBlockStandingOnTheArmsEndBuildsTheColumnDownwards) {
+  const mesh::RepairedMesh part = test::reference_part("l_block");
+  const auto faces = base_faces(part.mesh);
+  const BaseFace* end = nullptr;
+  for (const BaseFace& f : faces) {
+    if (f.normal.x > 0.999 && f.point.x > 69.999) end = &f;  // the arm's end, x = 70
+  }
+  ASSERT_NE(end, nullptr);
+  RootBase base;
+  base.kind = RootBase::Kind::kFace;
+  base.face = end->id;
+  const RegionTree tree = pinned(part, base);
+  ASSERT_EQ(tree.regions.size(), 2u);
+  test::expect_partition(tree, part.mesh);
+  test::expect_support_free(tree);
+  EXPECT_LT(test::angle_between_deg(tree.regions[0].build_direction, {-1, 0, 0}), 1e-6);
+  EXPECT_NEAR(core::dot(tree.regions[0].base_point, {1, 0, 0}), 70.0, 1e-6);
+  EXPECT_LT(test::angle_between_deg(tree.regions[1].build_direction, {0, 0, -1}), 5.0);  // the column, hanging from the arm
+  EXPECT_EQ(tree.faces.size(), faces.size());
+}
+
+TEST(DecomposeRootBase, PlaneThroughTheColumnLeavesItsFootBuiltDownwards) {
+  const mesh::RepairedMesh part = test::reference_part("l_block");
+  RootBase base;
+  base.kind = RootBase::Kind::kPlane;
+  base.point = {10, 10, 30};
+  base.normal = {0, 0, 2};  // any length
+  const RegionTree tree = pinned(part, base);
+  ASSERT_EQ(tree.regions.size(), 3u);
+  test::expect_partition(tree, part.mesh);
+  test::expect_support_free(tree);
+  EXPECT_NEAR(tree.regions[0].volume_mm3, 12000.0, 1.0);  // the column above z = 30 ...
+  EXPECT_NEAR(tree.regions[1].volume_mm3, 12000.0, 1.0);  // ... the foot below, built along −Z
+  EXPECT_LT(test::angle_between_deg(tree.regions[1].build_direction, {0, 0, -1}), 1e-6);
+  EXPECT_NEAR(tree.regions[2].volume_mm3, 20000.0, 1.0);  // the arm, along +X
+}
+
+TEST(DecomposeRootBase, LowestPointMatchesThePlateOnAFlatBottomedPart) {
+  const mesh::RepairedMesh part = test::reference_part("l_block");
+  RootBase base;
+  base.kind = RootBase::Kind::kLowest;
+  const RegionTree tree = pinned(part, base);
+  ASSERT_EQ(tree.regions.size(), 2u);
+  EXPECT_NEAR(tree.regions[0].volume_mm3, 24000.0, 1.0);
+}
+
+TEST(DecomposeRootBase, UnknownFaceOrZeroNormalIsAUsageError) {
+  const mesh::RepairedMesh part = test::reference_part("l_block");
+  RootBase base;
+  base.kind = RootBase::Kind::kFace;
+  base.face = 12345;
+  auto d = root_direction(part.mesh, base, {0, 0, 1});
+  ASSERT_FALSE(d.ok());
+  EXPECT_EQ(d.error().code, core::ErrorCode::kUsage);
+  EXPECT_NE(d.error().message.find("--root-base"), std::string::npos);
+  base.kind = RootBase::Kind::kPlane;
+  base.normal = {0, 0, 0};
+  EXPECT_FALSE(root_direction(part.mesh, base, {0, 0, 1}).ok());
+}
+
+}  // namespace
+}  // namespace polyaxis::analysis
