@@ -16,10 +16,10 @@ namespace polyaxis::planner {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMaxSupportAngleDeg = 89.0;
+constexpr double kMaxSupportAngleDeg = 89.0;  // tan() of the grown angle stays finite
 // The transit sphere's radius exceeds the part's by the retract distance and this share of it more,
 // so the chords between transit points (transit.h) stay clear of the retract points' sphere.
-constexpr double kTransitMarginShare = 0.5;  // tan() of the grown angle stays finite
+constexpr double kTransitMarginShare = 0.5;
 // A sliver of overhang smaller than this is the polygonal sections disagreeing along a wall at
 // exactly the self-supporting angle, not material hanging in the air.
 constexpr double kPieceNoiseMm2 = 1e-3;
