@@ -76,6 +76,24 @@ double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer
 
 }  // namespace
 
+Placement rotation_to_z(Vec3 d) {
+  Placement p;
+  d = core::normalized(d);
+  const Vec3 z{0, 0, 1};
+  const Vec3 k = core::cross(d, z);  // the axis, |k| = sin of the angle
+  const double s = core::norm(k), c = core::dot(d, z);
+  if (s < 1e-12) {
+    if (c < 0.0) p.rows[1] = {0, -1, 0}, p.rows[2] = {0, 0, -1};  // a half turn about X
+    return p;
+  }
+  // Rodrigues: R = I + [k]× + [k]×² (1 − c) / s², with k = d × z.
+  const double f = (1.0 - c) / (s * s);
+  p.rows[0] = {1.0 - f * (k.y * k.y + k.z * k.z), -k.z + f * k.x * k.y, k.y + f * k.x * k.z};
+  p.rows[1] = {k.z + f * k.x * k.y, 1.0 - f * (k.x * k.x + k.z * k.z), -k.x + f * k.y * k.z};
+  p.rows[2] = {-k.y + f * k.x * k.z, k.x + f * k.y * k.z, 1.0 - f * (k.x * k.x + k.y * k.y)};
+  return p;
+}
+
 core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
                              const PlanOptions& options, const std::vector<PlanRegion>& given_regions) {
   Plan plan;
@@ -83,24 +101,30 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     return core::make_error(core::ErrorCode::kUsage, "--dir: the build direction must be a finite non-zero vector");
   }
   const Vec3 d = core::normalized(given_regions.empty() ? options.direction : given_regions.front().direction);
-  // Placement: base on the table (height 0 along d), footprint centred on the rotary axis.
+  // Placement: the build direction turned to the table's +Z, the base on the table (Z = 0), the
+  // footprint centred on the rotary axis.
+  plan.placement = rotation_to_z(d);
   double lowest = INFINITY;
   core::Box3 box;
-  for (const Vec3& v : part.mesh.vertices) lowest = std::min(lowest, core::dot(v, d)), box.add(v);
-  Vec3 centre = (box.min + box.max) * 0.5;
-  centre = centre - d * core::dot(centre, d);  // the centre's part across d
-  plan.placement_mm = Vec3{} - centre - d * lowest;
+  for (const Vec3& v : part.mesh.vertices) {
+    const Vec3 r = plan.placement.rotate(v);
+    lowest = std::min(lowest, r.z), box.add(r);
+  }
+  plan.placement.translation_mm = {-(box.min.x + box.max.x) * 0.5, -(box.min.y + box.max.y) * 0.5, -lowest};
   std::vector<PlanRegion> regions = given_regions;
   if (regions.empty()) {
     PlanRegion whole;
     whole.mesh = part.mesh;
     whole.direction = d;
-    whole.base_point = centre + d * lowest;  // the middle of the footprint, on the table
+    // The middle of the footprint, on the table, in the part's frame.
+    const Vec3 on_table{(box.min.x + box.max.x) * 0.5, (box.min.y + box.max.y) * 0.5, lowest};
+    whole.base_point = plan.placement.unrotate(on_table);
     regions.push_back(std::move(whole));
   }
   for (PlanRegion& r : regions) {
-    for (Vec3& v : r.mesh.vertices) v = v + plan.placement_mm;
-    r.base_point = r.base_point + plan.placement_mm;
+    for (Vec3& v : r.mesh.vertices) v = plan.placement.apply(v);
+    r.base_point = plan.placement.apply(r.base_point);
+    r.direction = plan.placement.rotate(core::normalized(r.direction));
   }
   plan.regions = static_cast<std::uint32_t>(regions.size());
   plan.placed_regions = regions;

@@ -93,12 +93,12 @@ PlanView make_plan_view(const planner::Plan& plan, const motion::MachineConfig& 
   if (motion::has_rotary_axes(machine.kind)) view.tilt_axis = std::string(1, motion::tilt_axis_letter(machine.kind));
   view.process = process.name;
   view.bead_width_mm = process.bead_width_mm;
-  view.placement_mm = plan.placement_mm;
+  view.placement = plan.placement;
   view.metrics_json = std::move(metrics_json);
   view.regions = plan.placed_regions;
   if (axis != nullptr) {
     ViewAxis a;
-    for (const analysis::AxisNode& n : axis->nodes) a.nodes.push_back(n.position + plan.placement_mm);
+    for (const analysis::AxisNode& n : axis->nodes) a.nodes.push_back(plan.placement.apply(n.position));
     for (const analysis::AxisLink& l : axis->links) a.links.push_back({l.from, l.to, l.is_break ? 1u : 0u});
     view.axis = std::move(a);
   }
@@ -131,8 +131,13 @@ std::string plan_view_json(const PlanView& view) {
   out += ",\"kinematics\":", put_string(out, view.kinematics);
   out += ",\"tilt_axis\":", put_string(out, view.tilt_axis);
   out += ",\"process\":", put_string(out, view.process);
-  fmt::format_to(std::back_inserter(out), ",\"bead_width_mm\":{:.6f},\"placement_mm\":", view.bead_width_mm);
-  put_vec(out, view.placement_mm);
+  fmt::format_to(std::back_inserter(out), ",\"bead_width_mm\":{:.6f},\"placement_rotation\":[", view.bead_width_mm);
+  for (int i = 0; i < 3; ++i) {
+    if (i) out += ',';
+    put_vec(out, view.placement.rows[i], 12);
+  }
+  out += "],\"placement_mm\":";
+  put_vec(out, view.placement.translation_mm);
   out += ",\n\"report\":";
   out += metrics_object(view.metrics_json);
   out += ",\n\"regions\":[";

@@ -83,7 +83,10 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
     view.process = doc.at("process").get<std::string>();
     view.bead_width_mm = doc.at("bead_width_mm").get<double>();
     if (!std::isfinite(view.bead_width_mm)) throw std::runtime_error("bead_width_mm is not finite");
-    view.placement_mm = get_vec(doc.at("placement_mm"));
+    const Json& rows = doc.at("placement_rotation");
+    if (!rows.is_array() || rows.size() != 3) throw std::runtime_error("placement_rotation is not three rows");
+    for (std::size_t i = 0; i < 3; ++i) view.placement.rows[i] = get_vec(rows[i]);
+    view.placement.translation_mm = get_vec(doc.at("placement_mm"));
     if (!doc.at("report").is_object()) throw std::runtime_error("\"report\" is not an object");
     view.metrics_json = doc.at("report").dump(2);
     for (const Json& r : doc.at("regions")) {

@@ -283,13 +283,14 @@ TEST(PlanErrors, RootBaseIsCheckedAndNeedsDecompose) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_FALSE(std::filesystem::exists(dir / "l_block.ngc"));
   EXPECT_FALSE(std::filesystem::exists(dir / "analysis.json"));
-  // Standing on the arm's end (a plane at x = 70 facing -X): the root builds along -X, and the
-  // column hangs below it, built along -Z: the table turns the part upside down.
-  r = run_cli("plan '" + part + "' --decompose --root-base 70,10,50,-1,0,0 --set machine.limits.a.min=-180 --set machine.limits.a.max=180 -o '" +
-              dir.path().string() + "'");
+  // Standing on the arm's end (a plane at x = 70 facing -X): the part is turned so that the
+  // root's direction, -X, is the table's +Z; the column then hangs sideways (tilt 90°).
+  r = run_cli("plan '" + part + "' --decompose --root-base 70,10,50,-1,0,0 -o '" + dir.path().string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto plan = read_json(dir / "plan.json");
-  EXPECT_NEAR(plan["regions"][0]["build_direction"][0].get<double>(), -1.0, 1e-9);
+  EXPECT_NEAR(plan["regions"][0]["build_direction"][2].get<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(plan["placement_rotation"][2][0].get<double>(), -1.0, 1e-9);  // part -X is table +Z
+  EXPECT_NEAR(std::fabs(plan["regions"][1]["build_direction"][2].get<double>()), 0.0, 1e-6);
   EXPECT_TRUE(read_json(dir / "report.json")["support_free"].get<bool>());
 }
 

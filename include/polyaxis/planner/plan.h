@@ -38,7 +38,7 @@ struct PlanOptions {
 struct PlanRegion {
   std::uint32_t id = 0;
   mesh::Mesh mesh;          // closed, in the part's frame (before placement)
-  Vec3 direction{0, 0, 1};  // build direction
+  Vec3 direction{0, 0, 1};  // build direction, in the same frame
   // For the report: the parent region (none for the root), a point of the base surface, and
   // whether the region is support-free in its own direction (analysis::Region's fields).
   std::optional<std::uint32_t> parent;
@@ -67,6 +67,21 @@ struct StageTimes {
   double support_s = 0.0;
 };
 
+// Where the part stands on the table: table = rotation · part + translation. The rotation is the
+// smallest one turning the build direction (the root region's) to the table's +Z; the translation
+// puts the base at Z = 0 with the footprint centred on the rotary axis.
+struct Placement {
+  Vec3 rows[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};  // the rotation matrix, by rows
+  Vec3 translation_mm;
+
+  Vec3 rotate(Vec3 v) const { return {core::dot(rows[0], v), core::dot(rows[1], v), core::dot(rows[2], v)}; }
+  Vec3 unrotate(Vec3 v) const { return rows[0] * v.x + rows[1] * v.y + rows[2] * v.z; }  // the transpose
+  Vec3 apply(Vec3 p) const { return rotate(p) + translation_mm; }
+};
+
+// The smallest rotation turning D (any non-zero vector) to +Z; a half turn about X for −Z.
+Placement rotation_to_z(Vec3 d);
+
 struct Plan {
   StageTimes times;
   slicing::SliceResult layers;
@@ -78,7 +93,7 @@ struct Plan {
   // The regions as built, placed (the whole part as region 0 when no regions were given); a
   // region's support_free is cleared when one of its layers has unsupported area.
   std::vector<PlanRegion> placed_regions;
-  Vec3 placement_mm;          // translation applied to the part: centred on the table, base at 0
+  Placement placement;        // part frame -> table frame; everything below is in the table frame
   double deposit_length_mm = 0.0;
   double travel_length_mm = 0.0;
   double unsupported_area_mm2 = 0.0;
@@ -94,8 +109,9 @@ inline constexpr double kReorientationDeg = 5.0;
 // Unsupported area below this is snapping noise, not an overhang.
 inline constexpr double kUnsupportedNoiseMm2 = 0.01;
 
-// Places PART (translating it so that its base along the build direction sits on the table at
-// 0 and its footprint is centred on the rotary axis), slices it at the process's layer height,
+// Places PART (turning it so that the build direction — the first region's — is the table's +Z,
+// then translating it so that its base sits on the table at 0 and its footprint is centred on
+// the rotary axis), slices it at the process's layer height,
 // makes toolpaths with the process's bead, checks support, and lists the program points.
 // REGIONS (parents before children; empty: the whole part along options.direction) are built one
 // after the other, each sliced along its own direction; layers are numbered across regions.

@@ -50,7 +50,7 @@ struct PlanView {
   std::string tilt_axis;    // "A", "B" or "" (3-axis)
   std::string process;      // process name
   double bead_width_mm = 0.0;
-  Vec3 placement_mm;
+  planner::Placement placement;  // part frame -> table frame
   std::string metrics_json;  // report.json's object (report_json output)
   std::vector<planner::PlanRegion> regions;  // placed
   std::optional<ViewAxis> axis;              // placed; with --decompose

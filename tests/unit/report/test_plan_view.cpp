@@ -33,7 +33,7 @@ PlanView small_view(std::size_t program_points = 6) {
   v.tilt_axis = "A";
   v.process = "ded_steel";
   v.bead_width_mm = 0.9;
-  v.placement_mm = {-5, -5, 0};
+  v.placement.translation_mm = {-5, -5, 0};
   v.metrics_json = R"({"layers": 2, "support_free": false, "timings_s": {"read": 0.5}})";
   planner::PlanRegion root;
   root.mesh = cube(10);
