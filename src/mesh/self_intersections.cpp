@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <mutex>
 
+#include "polyaxis/core/progress.h"
+
 namespace polyaxis::mesh {
 namespace {
 
@@ -75,7 +77,10 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh) {
     boxes.emplace_back(lo, hi, f);
   }
   std::vector<char> hit(mesh.triangles.size(), 0);
+  core::Progress progress("self-intersections", 0);  // candidate pairs checked (the total is not known)
+  std::uint64_t pairs = 0;
   auto callback = [&](const Box& x, const Box& y) {
+    if ((++pairs & 0xffff) == 0) progress.update(pairs);
     const std::size_t f = x.info(), g = y.info();
     if (hit[f] && hit[g]) return;
     if (faces_intersect(mesh, f, g)) hit[f] = hit[g] = 1;
