@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tbb/parallel_for.h>
 
 #include "polyaxis/core/progress.h"
 #include "polyaxis/mesh/plane_cut.h"
@@ -389,10 +390,12 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       const detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal};
       std::vector<Candidate> cands = candidates_for(s, mesh, faces, axis.increment_mm, options.face_normal_tolerance_deg, alpha);
       const std::vector<std::uint32_t> seeds = detail::nearest_facets(h.mesh, s.targets);
-      for (Candidate& c : cands) {
+      // Candidates are screened in parallel; each writes only its own result.
+      tbb::parallel_for(std::size_t{0}, cands.size(), [&](std::size_t k) {
+        Candidate& c = cands[k];
         const Vec3 starts[] = {c.normal, s.dir, s.branch_dir};
         c.screened = detail::screen_split(hr, c.point, c.normal, seeds, starts, alpha);
-      }
+      });
       std::erase_if(cands, [](const Candidate& c) { return !c.screened.valid; });
       std::stable_sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
         return preferred(overhang[host] - a.screened.total(), a, s.dir, overhang[host] - b.screened.total(), b, s.dir);
