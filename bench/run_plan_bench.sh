@@ -4,15 +4,7 @@
 # from each run's report.json (timings_s) plus the whole process's wall time (hyperfine median).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-command -v hyperfine >/dev/null || { apt-get update -q && apt-get install -y -q --no-install-recommends hyperfine; }
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)" --target polyaxis polyaxis-cad-import make_bench_mesh >/dev/null
-mkdir -p bench/data
-[ -f bench/data/bumpy_82k.stl ] || build/bench/make_bench_mesh 6 bench/data/bumpy_82k.stl >/dev/null
-[ -f bench/data/bumpy_1.3m.stl ] || build/bench/make_bench_mesh 8 bench/data/bumpy_1.3m.stl >/dev/null
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-cli=build/apps/polyaxis/polyaxis
+source bench/plan_bench_setup.sh
 echo "| part | triangles | layers | program points | whole s | read | repair | slice | toolpath | program | support | gcode | simulate |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for f in examples/parts/*.stl bench/data/bumpy_82k.stl bench/data/bumpy_1.3m.stl; do

@@ -5,15 +5,7 @@
 # Parts: the impeller and generated meshes of about 82k and 1.3M triangles (bench/make_bench_mesh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-command -v hyperfine >/dev/null || { apt-get update -q && apt-get install -y -q --no-install-recommends hyperfine; }
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)" --target polyaxis polyaxis-cad-import make_bench_mesh >/dev/null
-mkdir -p bench/data
-[ -f bench/data/bumpy_82k.stl ] || build/bench/make_bench_mesh 6 bench/data/bumpy_82k.stl >/dev/null
-[ -f bench/data/bumpy_1.3m.stl ] || build/bench/make_bench_mesh 8 bench/data/bumpy_1.3m.stl >/dev/null
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-cli=build/apps/polyaxis/polyaxis
+source bench/plan_bench_setup.sh
 median() { /usr/bin/python3 -c "import json;print('%.2f'%json.load(open('$1'))['results'][0]['median'])"; }
 echo "| part | program points | plan --no-html s | plan s | report.html MiB | view s | browser ready s |"
 echo "|---|---:|---:|---:|---:|---:|---:|"
