@@ -7,12 +7,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <tbb/parallel_for.h>
 
 #include "polyaxis/core/progress.h"
 #include "polyaxis/mesh/plane_cut.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/topology.h"
+#include "build_order.h"
+#include "patch_split.h"
 #include "region_geometry.h"
 #include "split_screen.h"
 
@@ -45,6 +48,10 @@ constexpr std::size_t kMaxTargets = 8;
 // screened candidates are cut exactly.
 constexpr double kMinGainMm2 = 2.0 * kUnsupportedNoiseMm2;
 constexpr std::size_t kExactTries = 3;
+// Overhang left by the links: at most this many patch regions in all, and the largest this many
+// patches of a region tried.
+constexpr int kMaxPatchSplits = 12;
+constexpr std::size_t kMaxPatchesPerRegion = 4;
 // Cosines closer than this are a tie (about 0.1° near 0°, 1e-6 in general).
 constexpr double kSameCos = 1e-6;
 // A cut along a planar face of the part is moved this far into the child, mm: corefinement of a
@@ -188,33 +195,33 @@ struct ExactSplit {
   mesh::Mesh parent, child;
   Vec3 direction;
   double unsupported_mm2 = INFINITY;  // parent + child
+  double child_mm2 = INFINITY;
 };
 
-// Cuts HOST by the candidate's plane (capped); the child is the shell on the normal side nearest
-// the targets, every other piece stays with the parent.
-std::optional<ExactSplit> exact_split(const Region& host, const Candidate& c, const SplitLink& s, double alpha_deg) {
-  auto cut = mesh::cut_by_plane(host.mesh, c.point, c.normal * -1.0);  // "below" = the child's side
-  if (!cut || cut.value().above.triangles.empty()) return std::nullopt;
-  std::vector<mesh::Mesh> side = detail::shells_of(cut.value().below);
-  if (side.empty()) return std::nullopt;
-  std::size_t pick = 0;
-  double best = INFINITY;
-  for (std::size_t i = 0; i < side.size(); ++i) {
-    const double d = distance_sum(side[i], s.targets);
-    if (d < best) best = d, pick = i;
-  }
+// Cuts HOST by the plane (POINT, NORMAL towards the child; capped); the child is the piece on the
+// normal side nearest TARGETS, every other piece stays with the parent, put back onto it as one
+// solid (mesh::cut_off). The child's direction is the best of STARTS and the search from them. With
+// CHILD_MUST_STAND a child left with overhang ends the split before the parent is built.
+std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 normal, const std::vector<Vec3>& targets,
+                                      std::span<const Vec3> starts, double alpha_deg, bool child_must_stand = false) {
   ExactSplit out;
-  out.child = std::move(side[pick]);
-  std::vector<mesh::Mesh> rest{std::move(cut.value().above)};
-  for (std::size_t i = 0; i < side.size(); ++i) {
-    if (i != pick) rest.push_back(std::move(side[i]));
-  }
-  out.parent = detail::merged(rest);
-  const std::vector<detail::FacetSample> facets = detail::facet_samples(out.child, c.point, c.normal);
-  const Vec3 starts[] = {c.normal, s.dir, s.branch_dir, c.screened.child_direction};
-  out.direction = detail::best_direction(facets, c.normal, starts, alpha_deg);
-  out.unsupported_mm2 = detail::unsupported(out.parent, host.build_direction, alpha_deg, host.base_point, host.base_normal) +
-                        detail::unsupported(out.child, out.direction, alpha_deg, c.point, c.normal);
+  auto cut = mesh::cut_off(host.mesh, point, normal, [&](const std::vector<mesh::Mesh>& pieces) -> std::optional<std::size_t> {
+    std::size_t pick = 0;
+    double best = INFINITY;
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      const double d = distance_sum(pieces[i], targets);
+      if (d < best) best = d, pick = i;
+    }
+    const std::vector<detail::FacetSample> facets = detail::facet_samples(pieces[pick], point, normal);
+    out.direction = detail::best_direction(facets, normal, starts, alpha_deg);
+    out.child_mm2 = detail::unsupported(pieces[pick], out.direction, alpha_deg, point, normal);
+    if (child_must_stand && out.child_mm2 > 0.0) return std::nullopt;
+    return pick;
+  });
+  if (!cut) return std::nullopt;
+  out.child = std::move(cut.value().child);
+  out.parent = std::move(cut.value().parent);
+  out.unsupported_mm2 = detail::unsupported(out.parent, host.build_direction, alpha_deg, host.base_point, host.base_normal) + out.child_mm2;
   return out;
 }
 
@@ -366,6 +373,22 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   };
   for (std::size_t r = 0; r < tree.regions.size(); ++r) refresh(r);
 
+  // Cuts CHILD off HOST (its parent, which keeps what remains).
+  auto add_child = [&](std::size_t host, ExactSplit&& split, Vec3 point, Vec3 normal, std::string rule) {
+    Region child;
+    child.id = static_cast<std::uint32_t>(tree.regions.size());
+    child.parent = tree.regions[host].id;
+    child.build_direction = split.direction;
+    child.base_point = point;
+    child.base_normal = normal;
+    child.mesh = std::move(split.child);
+    child.rule = std::move(rule);
+    tree.regions[host].mesh = std::move(split.parent);
+    tree.regions.push_back(std::move(child));
+    refresh(host);
+    refresh(tree.regions.size() - 1);
+  };
+
   // Greedy, best first: every round screens every open link's candidates in the region holding the
   // link's branch, cuts the link whose best candidate removes the most overhang, and stops when no
   // split removes any.
@@ -413,27 +436,53 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     std::optional<ExactSplit> chosen;
     const Candidate* used = nullptr;
     for (std::size_t k = 0; k < best_candidates.size() && k < kExactTries; ++k) {
-      auto e = exact_split(tree.regions[host], best_candidates[k], s, alpha);
+      const Candidate& c = best_candidates[k];
+      const Vec3 starts[] = {c.normal, s.dir, s.branch_dir, c.screened.child_direction};
+      auto e = exact_split(tree.regions[host], c.point, c.normal, s.targets, starts, alpha);
       if (e && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
         chosen = std::move(e), used = &best_candidates[k];
         // The cut confirms the estimate: the later candidates were estimated no better.
-        const Candidate& c = best_candidates[k];
         if (chosen->unsupported_mm2 <= c.screened.total() + kUnsupportedNoiseMm2) break;
       }
     }
     if (!chosen) continue;  // the exact cut did not confirm the estimate: leave this link
-    Region child;
-    child.id = static_cast<std::uint32_t>(tree.regions.size());
-    child.parent = tree.regions[host].id;
-    child.build_direction = chosen->direction;
-    child.base_point = used->point;
-    child.base_normal = used->normal;
-    child.mesh = std::move(chosen->child);
-    child.rule = used->rule;
-    tree.regions[host].mesh = std::move(chosen->parent);
-    tree.regions.push_back(std::move(child));
-    refresh(host);
-    refresh(tree.regions.size() - 1);
+    add_child(host, std::move(*chosen), used->point, used->normal, used->rule);
+  }
+
+  // What the links leave: each overhang patch, largest first, may be cut off into a region of its
+  // own, built along a direction in which it stands (patch_split.h), when that removes overhang.
+  for (int splits = 0; splits < kMaxPatchSplits;) {
+    bool split = false;
+    for (std::size_t host = 0; host < tree.regions.size() && !split; ++host) {
+      if (overhang[host] <= 0.0) continue;
+      const Region& h = tree.regions[host];
+      detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal};
+      // The plate stays under the regions that stand on it; a cut base may go with the child, whose
+      // facets on it are then checked like any other.
+      hr.keep_base = !h.parent || h.rule == "below the plate";
+      const auto patches = detail::overhang_patches(h.mesh, topology[host], h.build_direction, alpha, h.base_point, h.base_normal);
+      for (std::size_t p = 0; p < patches.size() && p < kMaxPatchesPerRegion && !split; ++p) {
+        const std::vector<detail::PatchCandidate> cands = detail::patch_candidates(hr, patches[p], axis.increment_mm, alpha);
+        const std::vector<Vec3> targets = detail::patch_targets(h.mesh, patches[p]);
+        std::optional<ExactSplit> chosen;
+        const detail::PatchCandidate* used = nullptr;
+        for (std::size_t k = 0; k < cands.size() && k < kExactTries; ++k) {
+          const detail::PatchCandidate& c = cands[k];
+          if (c.screened.total() >= overhang[host] - kMinGainMm2) break;
+          const Vec3 starts[] = {c.normal, c.screened.child_direction};
+          auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, /*child_must_stand=*/true);
+          if (e && e->child_mm2 == 0.0 && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
+            chosen = std::move(e), used = &c;
+            if (chosen->unsupported_mm2 <= c.screened.total() + kUnsupportedNoiseMm2) break;
+          }
+        }
+        if (!chosen) continue;
+        add_child(host, std::move(*chosen), used->point, used->normal, "overhang patch");
+        split = true;
+        ++splits;
+      }
+    }
+    if (!split) break;
   }
   for (std::size_t r = 0; r < tree.regions.size(); ++r) {
     Region& g = tree.regions[r];
@@ -441,6 +490,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     g.unsupported_area_mm2 = overhang[r];
     g.support_free = g.unsupported_area_mm2 == 0.0;
   }
+  detail::order_by_support(tree.regions);
   return tree;
 }
 

@@ -102,7 +102,8 @@ double distance_to_solid(const mesh::Mesh& m, Vec3 p) {
   return std::sqrt(best);
 }
 
-double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_point, Vec3 base_normal) {
+std::vector<OverhangPatch> overhang_patches(const mesh::Mesh& m, const mesh::EdgeTopology& topo, Vec3 d, double alpha_deg,
+                                            Vec3 base_point, Vec3 base_normal) {
   const Vec3 dn = core::normalized(d), bn = core::normalized(base_normal);
   const double limit = -std::sin(alpha_deg * kPi / 180.0);
   const std::size_t nf = m.triangles.size();
@@ -116,28 +117,32 @@ double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_poin
     if (!on_base) area[f] = len / 2.0;
   }
   // Patches of overhanging facets joined across edges; each counts only from the noise floor up.
-  const mesh::EdgeTopology topo = mesh::build_topology(m);
   std::vector<char> seen(nf, 0);
-  std::vector<std::uint32_t> stack;
-  double total = 0.0;
+  std::vector<OverhangPatch> out;
   for (std::uint32_t seed = 0; seed < nf; ++seed) {
     if (area[seed] <= 0.0 || seen[seed]) continue;
-    double patch = 0.0;
+    OverhangPatch patch;
     seen[seed] = 1;
-    stack.assign(1, seed);
-    while (!stack.empty()) {
-      const std::uint32_t f = stack.back();
-      stack.pop_back();
-      patch += area[f];
+    patch.facets.assign(1, seed);
+    for (std::size_t i = 0; i < patch.facets.size(); ++i) {
+      const std::uint32_t f = patch.facets[i];
+      patch.area_mm2 += area[f];
       for (std::uint32_t k = 0; k < 3; ++k) {
         const std::uint32_t o = topo.opposite[3 * f + k];
         if (o == mesh::kNoHalfEdge || seen[o / 3] || area[o / 3] <= 0.0) continue;
         seen[o / 3] = 1;
-        stack.push_back(o / 3);
+        patch.facets.push_back(o / 3);
       }
     }
-    if (patch >= kUnsupportedNoiseMm2) total += patch;
+    if (patch.area_mm2 >= kUnsupportedNoiseMm2) out.push_back(std::move(patch));
   }
+  std::stable_sort(out.begin(), out.end(), [](const OverhangPatch& a, const OverhangPatch& b) { return a.area_mm2 > b.area_mm2; });
+  return out;
+}
+
+double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_point, Vec3 base_normal) {
+  double total = 0.0;
+  for (const OverhangPatch& p : overhang_patches(m, mesh::build_topology(m), d, alpha_deg, base_point, base_normal)) total += p.area_mm2;
   return total;
 }
 
@@ -158,14 +163,5 @@ std::vector<mesh::Mesh> shells_of(const mesh::Mesh& piece) {
   return out;
 }
 
-mesh::Mesh merged(const std::vector<mesh::Mesh>& parts) {
-  mesh::Mesh out;
-  for (const mesh::Mesh& p : parts) {
-    const auto base = static_cast<std::uint32_t>(out.vertices.size());
-    out.vertices.insert(out.vertices.end(), p.vertices.begin(), p.vertices.end());
-    for (auto t : p.triangles) out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-  }
-  return out;
-}
 
 }  // namespace polyaxis::analysis::detail

@@ -7,6 +7,7 @@
 
 #include "polyaxis/core/vec3.h"
 #include "polyaxis/mesh/mesh.h"
+#include "polyaxis/mesh/topology.h"
 
 namespace polyaxis::analysis::detail {
 
@@ -44,6 +45,16 @@ double distance_to_solid(const mesh::Mesh& m, Vec3 p);
 // Squared distance from P to the triangle ABC, mm².
 double distance2_to_triangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c);
 
+struct OverhangPatch {
+  std::vector<std::uint32_t> facets;  // facet ids of M, joined across edges
+  double area_mm2 = 0.0;
+};
+
+// The overhang patches of M built along D at ALPHA_DEG (facets on the base plane BASE_POINT,
+// BASE_NORMAL left out), largest first, those below kUnsupportedNoiseMm2 dropped. O(F).
+std::vector<OverhangPatch> overhang_patches(const mesh::Mesh& m, const mesh::EdgeTopology& topo, Vec3 d, double alpha_deg,
+                                            Vec3 base_point, Vec3 base_normal);
+
 // Overhang area of M built along D at the self-supporting angle ALPHA_DEG, not counting facets on
 // the base plane (BASE_POINT, BASE_NORMAL): they rest on the parent region or the plate.
 // (mesh::overhang_area would count a base that is not perpendicular to D.) Patches below
@@ -53,7 +64,5 @@ double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_poin
 // The shells of a closed mesh, as separate closed meshes (mesh::repair groups faces by shell).
 std::vector<mesh::Mesh> shells_of(const mesh::Mesh& piece);
 
-// The meshes PARTS as one mesh (vertices not shared).
-mesh::Mesh merged(const std::vector<mesh::Mesh>& parts);
 
 }  // namespace polyaxis::analysis::detail

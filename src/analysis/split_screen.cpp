@@ -190,19 +190,20 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
     const double len = core::norm(a2);
     if (len == 0.0) continue;
     const Vec3 n = a2 / len;
+    bool on_base = true;
+    for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(m.corner(f, k) - host.base_point, hb)) <= kOnBaseMm;
     double in_child = 0.0;
     if (reached[f]) {
       const Vec3 p[3] = {m.corner(f, 0), m.corner(f, 1), m.corner(f, 2)};
       const double sv[3] = {s[m.triangles[f][0]], s[m.triangles[f][1]], s[m.triangles[f][2]]};
       in_child = std::min(len / 2.0, positive_area(p, sv, n));
-      if (in_child > 0.0) child.push_back({n, in_child});
+      if (in_child > 0.0 && on_base && host.keep_base) return out;
+      if (in_child > 0.0) child.push_back({n, in_child}), out.child_area_mm2 += in_child;
       child_cap_mm2 += in_child * core::dot(n, normal);
     }
     const double in_parent = len / 2.0 - in_child;
     if (in_parent <= 0.0) continue;
     parent_area += in_parent;
-    bool on_base = true;
-    for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(m.corner(f, k) - host.base_point, hb)) <= kOnBaseMm;
     if (!on_base && core::dot(n, hd) < limit) out.parent_mm2 += in_parent;
   }
   if (child.empty() || parent_area <= kUnsupportedNoiseMm2) return out;

@@ -46,6 +46,7 @@ struct Screened {
   bool valid = false;        // the plane splits the region and the child side holds a target
   double parent_mm2 = 0.0;   // the parent's overhang in its own direction, cap included
   double child_mm2 = 0.0;    // the child's overhang along child_direction
+  double child_area_mm2 = 0.0;  // the child's surface, cap left out
   Vec3 child_direction;
   double total() const { return parent_mm2 + child_mm2; }
 };
@@ -54,6 +55,7 @@ struct HostRegion {
   const mesh::Mesh* mesh;
   const mesh::EdgeTopology* topology;
   Vec3 direction, base_point, base_normal;
+  bool keep_base = false;  // a child that would take facets of the host's base is not valid
 };
 
 // Estimates the split of HOST by the plane (POINT, unit NORMAL pointing to the child side): the

@@ -14,6 +14,8 @@ namespace {
 // turning by more than π minus this has no defined path.
 constexpr double kSlerpParallelRad = 1e-12;
 constexpr double kReversedAxisRad = 1e-6;
+// A piece that would leave less than this share of the smallest piece before the end goes to the end.
+constexpr double kLastPieceShare = 0.5;
 
 Vec3 lerp(Vec3 a, Vec3 b, double s) { return a + (b - a) * s; }
 
@@ -57,9 +59,9 @@ struct Subdivider {
     if (depth >= kMaxSubdivisionDepth) {
       return core::make_error(
           core::ErrorCode::kInfeasible,
-          fmt::format("cannot keep the tip within {} mm of the segment ({:.4f}, {:.4f}, {:.4f})-({:.4f}, {:.4f}, {:.4f}): "
-                      "{:.4f} mm off after {} bisections",
-                      chordal_mm, p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, dev, depth));
+          fmt::format("cannot keep the tip within {} mm turning C in place at ({:.4f}, {:.4f}, {:.4f}): {:.4f} mm off after "
+                      "{} bisections",
+                      chordal_mm, p0.x, p0.y, p0.z, dev, depth));
     }
     const double sm = 0.5 * (sa + sb);
     MachinePose hint = a;
@@ -94,8 +96,6 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
                                         "{:.4f}): no path between opposite axes",
                                         p0.x, p0.y, p0.z, p1.x, p1.y, p1.z));
   }
-  auto end = inverse(machine, p1, t1, &start);
-  if (!end) return end.error();
   std::vector<MachinePose> out;
   MachinePose from = start;
   // Leaving a singular axis (RELIABILITY O2: the tool along C, upright or upside down): C was
@@ -104,17 +104,53 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
   // the tip held at P0; then the tilt.
   const double start_tilt_rad = std::abs(start.a_or_b_deg) * std::numbers::pi / 180.0;
   const bool start_singular = start_tilt_rad < kSingularTiltRad || std::abs(start_tilt_rad - std::numbers::pi) < kSingularTiltRad;
-  if (has_rotary_axes(machine.kind) && start_singular && end.value().c_deg != start.c_deg) {
+  const double min_step = std::ldexp(1.0, -kMaxSubdivisionDepth);
+  if (has_rotary_axes(machine.kind) && start_singular && omega > kSlerpParallelRad) {
+    // C as the axis leaves: its azimuth, constant along a great circle from the pole.
+    auto depart = inverse(machine, lerp(p0, p1, min_step), slerp(t0, t1, omega, min_step), &start);
+    if (!depart) return depart.error();
     MachinePose hint = start;
-    hint.c_deg = end.value().c_deg;
+    hint.c_deg = depart.value().c_deg;
     auto turned = inverse(machine, p0, t0, &hint);
     if (!turned) return turned.error();
-    Subdivider turn{machine, p0, p0, t0, t0, 0.0, chordal_mm, out, true};
-    if (auto st = turn.refine(start, 0.0, turned.value(), 1.0, 0); !st) return st.error();
-    from = turned.value();
+    if (turned.value().c_deg != start.c_deg) {
+      Subdivider turn{machine, p0, p0, t0, t0, 0.0, chordal_mm, out, true};
+      if (auto st = turn.refine(start, 0.0, turned.value(), 1.0, 0); !st) return st.error();
+      from = turned.value();
+    }
   }
-  Subdivider sub{machine, p0, p1, t0, t1, omega, chordal_mm, out, false};
-  if (auto st = sub.refine(from, 0.0, end.value(), 1.0, 0); !st) return st.error();
+  // The move itself, left to right: each piece as long as the tolerance and the rotary step allow
+  // (halved until they do, doubled after), its end pose followed from its start's, so the pose
+  // never jumps to the other branch of the same axis (tilt negated, C a half turn away).
+  const Subdivider sub{machine, p0, p1, t0, t1, omega, chordal_mm, out, false};
+  MachinePose a = from;
+  double sa = 0.0, step = 1.0;
+  while (sa < 1.0) {
+    double sb = sa + step >= 1.0 - kLastPieceShare * min_step ? 1.0 : sa + step;
+    for (;;) {
+      auto b = sb == 1.0 ? inverse(machine, p1, t1, &a) : inverse(machine, lerp(p0, p1, sb), slerp(t0, t1, omega, sb), &a);
+      if (!b) return b.error();
+      const double rotary = std::max(std::abs(b.value().a_or_b_deg - a.a_or_b_deg), std::abs(b.value().c_deg - a.c_deg));
+      const double dev = sub.deviation(a, sa, b.value(), sb);
+      if (dev <= chordal_mm && rotary <= kMaxRotaryStepDeg) {
+        out.push_back(b.value());
+        step = 2.0 * (sb - sa);
+        sa = sb;
+        a = b.value();
+        break;
+      }
+      if (sb - sa <= min_step) {
+        return core::make_error(
+            core::ErrorCode::kInfeasible,
+            fmt::format("cannot keep the tip within {} mm of the segment ({:.4f}, {:.4f}, {:.4f})-({:.4f}, {:.4f}, {:.4f}) "
+                        "turning the axis from ({:.4f}, {:.4f}, {:.4f}) to ({:.4f}, {:.4f}, {:.4f}): {:.4f} mm off in a "
+                        "piece of 1/{} of it",
+                        chordal_mm, p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, t0.x, t0.y, t0.z, t1.x, t1.y, t1.z, dev,
+                        std::llround(1.0 / min_step)));
+      }
+      sb = sa + 0.5 * (sb - sa);
+    }
+  }
   return out;
 }
 

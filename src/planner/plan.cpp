@@ -10,19 +10,16 @@
 #include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/mesh/properties.h"
+#include "support.h"
 #include "transit.h"
 
 namespace polyaxis::planner {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMaxSupportAngleDeg = 89.0;  // tan() of the grown angle stays finite
 // The transit sphere's radius exceeds the part's by the retract distance and this share of it more,
 // so the chords between transit points (transit.h) stay clear of the retract points' sphere.
 constexpr double kTransitMarginShare = 0.5;
-// A sliver of overhang smaller than this is the polygonal sections disagreeing along a wall at
-// exactly the self-supporting angle, not material hanging in the air.
-constexpr double kPieceNoiseMm2 = 1e-3;
 
 double angle_deg(Vec3 a, Vec3 b) {
   const double c = core::dot(core::normalized(a), core::normalized(b));
@@ -30,49 +27,6 @@ double angle_deg(Vec3 a, Vec3 b) {
 }
 
 
-
-// The unsupported area of layer K over layer K−1 (see PlanOptions' comment in plan.h); the
-// unsupported pieces are appended to PIECES.
-double unsupported_area(const slicing::Layer& below, const slicing::Layer& layer, const toolpath::LayerToolpaths& paths,
-                        double alpha_deg, double bead_mm, std::vector<geom2d::Polygon>& pieces) {
-  const double t = layer.height_mm - below.height_mm;  // centre to centre: what the new layer hangs over
-  const double base_grow = t * std::tan(alpha_deg * kPi / 180.0);
-  const auto overhang = geom2d::difference_rings(geom2d::rings_of(layer.polygons), geom2d::rings_of(geom2d::offset(below.polygons, base_grow)));
-  double total = 0.0;
-  std::map<int, std::vector<geom2d::Ring>> grown_by_angle;  // the layer below grown, per tilt (0.1° steps)
-  for (const geom2d::Polygon& piece : overhang) {
-    const double piece_area = geom2d::area_mm2(piece);
-    if (piece_area <= kPieceNoiseMm2) continue;
-    // Largest torch tilt of the outer-contour points over this piece (within a bead of its box).
-    std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
-    for (const auto& q : piece.outer) x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
-    const std::int64_t margin = geom2d::to_units(bead_mm);
-    double tilt = 0.0;
-    for (const toolpath::Path& path : paths.paths) {
-      if (!path.outer_contour) continue;
-      for (const toolpath::PathPoint& p : path.points) {
-        const Vec3 rel = p.position_mm - layer.frame.origin;
-        const std::int64_t u = geom2d::to_units(core::dot(rel, layer.frame.u)), v = geom2d::to_units(core::dot(rel, layer.frame.v));
-        if (u < x0 - margin || u > x1 + margin || v < y0 - margin || v > y1 + margin) continue;
-        tilt = std::max(tilt, angle_deg(p.tool_axis, layer.frame.d));
-      }
-    }
-    if (tilt <= 0.0) {
-      total += piece_area;
-      pieces.push_back(piece);
-      continue;
-    }
-    const int key = static_cast<int>(std::floor(std::min(alpha_deg + tilt, kMaxSupportAngleDeg) * 10.0));  // rounded down: conservative
-    auto it = grown_by_angle.find(key);
-    if (it == grown_by_angle.end()) {
-      it = grown_by_angle.emplace(key, geom2d::rings_of(geom2d::offset(below.polygons, t * std::tan(key / 10.0 * kPi / 180.0)))).first;
-    }
-    std::vector<geom2d::Polygon> left = geom2d::difference_rings(geom2d::rings_of({piece}), it->second);
-    total += geom2d::area_mm2(left);
-    pieces.insert(pieces.end(), left.begin(), left.end());
-  }
-  return total;
-}
 
 }  // namespace
 
@@ -246,40 +200,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
 
   plan.times.program_s = since(t0);
   t0 = Clock::now();
-  // Support, layer by layer (layer 0 rests on the table).
-  const auto& ls = plan.layers.layers;
-  plan.layer_reports.resize(ls.size());
-  core::Progress progress("support", ls.size());
-  for (std::size_t k = 0; k < ls.size(); ++k) {
-    progress.update(k);
-    LayerReport& r = plan.layer_reports[k];
-    r.index = ls[k].index;
-    r.region = plan.region_of_layer[k];
-    const Vec3 layer_d = ls[k].frame.d;
-    r.height_mm = ls[k].height_mm;
-    r.thickness_mm = ls[k].thickness_mm();
-    r.area_mm2 = ls[k].area_mm2;
-    const toolpath::LayerToolpaths& lt = plan.toolpaths[k];
-    r.paths = static_cast<std::uint32_t>(lt.paths.size());
-    for (const auto& path : lt.paths) {
-      for (const auto& p : path.points) {
-        if (p.deposit) r.max_tilt_deg = std::max(r.max_tilt_deg, angle_deg(p.tool_axis, layer_d));
-      }
-    }
-    // A region's first layer rests on its parent region or on the plate.
-    if (k > 0 && plan.region_of_layer[k - 1] == r.region) {
-      r.unsupported_area_mm2 =
-          unsupported_area(ls[k - 1], ls[k], lt, process.self_supporting_deg, process.bead_width_mm, r.unsupported);
-      if (r.unsupported_area_mm2 < kUnsupportedNoiseMm2) r.unsupported_area_mm2 = 0.0, r.unsupported.clear();
-    }
-    plan.unsupported_area_mm2 += r.unsupported_area_mm2;
-  }
-  // A region is support-free only when the layer check agrees with the region's own flag.
-  for (PlanRegion& region : plan.placed_regions) {
-    for (const LayerReport& r : plan.layer_reports) {
-      if (r.region == region.id && r.unsupported_area_mm2 > 0.0) region.support_free = false;
-    }
-  }
+  detail::check_support(plan, process);
   plan.times.support_s = since(t0);
   return plan;
 }

@@ -57,6 +57,7 @@ std::string analysis_json(const std::string& part, const analysis::OverhangMap& 
                        {"support_free", r.support_free},
                        {"unsupported_area_mm2", r.unsupported_area_mm2},
                        {"rule", r.rule},
+                       {"rests_on", r.rests_on},
                        {"stl", "region_" + std::to_string(r.id) + ".stl"}});
   }
   j["regions"] = regions;

@@ -1,5 +1,5 @@
 // Boolean union of closed test meshes (CGAL corefinement), so tests can build parts from
-// overlapping primitives the way OpenSCAD does. Test-only: the library never needs a union.
+// overlapping primitives the way OpenSCAD does (mesh::unite).
 #pragma once
 
 #include "polyaxis/io/raw_mesh.h"

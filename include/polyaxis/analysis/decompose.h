@@ -23,7 +23,9 @@ struct Region {
   double volume_mm3 = 0.0;
   double unsupported_area_mm2 = 0.0;    // overhang area in its own direction (0 when support-free)
   bool support_free = false;
-  std::string rule;  // how its base was found: "plate", "below the plate", "planar face", "fallback plane"
+  std::string rule;  // how its base was found: "plate", "below the plate", "planar face", "fallback plane",
+                     // "overhang patch"
+  std::vector<std::uint32_t> rests_on;  // the regions its base lies on (its parent among them): all built before it
 };
 
 // A planar face of the part that can carry the root region (--root-base FACE-ID).
@@ -36,7 +38,7 @@ struct BaseFace {
 };
 
 struct RegionTree {
-  std::vector<Region> regions;  // parents before children; regions[0] is the root
+  std::vector<Region> regions;  // in build order: every region after those it rests on; regions[0] is the root
   std::vector<BaseFace> faces;  // the part's planar faces of at least kMinBaseFaceMm2, by id
 };
 
@@ -90,8 +92,11 @@ struct DecomposeOptions {
 //    capped), ties going to Ruan's faces, then the plane most nearly across its link. The child's
 //    build direction minimises its overhang, at most 90° − α from its base's normal. Splitting
 //    stops when no split removes overhang.
-// Regions partition MESH (volumes sum to its volume) and are closed; parents come before
-// children. A region that stays unsupported says so (support_free false, its area). Cost: O(F) per
+//  * What the links leave is cut off patch by patch (largest first) into regions of their own,
+//    along a direction in which the patch and its whole child stand, when that removes overhang
+//    (rule "overhang patch"; src/analysis/patch_split.h). The plate is never taken.
+// Regions partition MESH (volumes sum to its volume) and are closed; they come in build order:
+// each after its parent and every region its base lies on (rests_on). A region that stays unsupported says so (support_free false, its area). Cost: O(F) per
 // candidate screened plus one or a few CGAL cuts per region made; milliseconds for the reference parts.
 core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis& axis, const DecomposeOptions& options = {});
 

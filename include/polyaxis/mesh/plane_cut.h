@@ -1,5 +1,11 @@
-// Cutting a closed mesh in two by a plane, capping both halves (CGAL corefinement).
+// Cutting a closed mesh in two by a plane, capping both halves, and joining pieces back into one
+// solid (CGAL corefinement, exact constructions).
 #pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <vector>
 
 #include "polyaxis/core/result.h"
 #include "polyaxis/mesh/mesh.h"
@@ -15,5 +21,29 @@ struct PlaneCut {
 // Either side may be empty when the plane misses the part. Error kInfeasible when CGAL cannot
 // cut (a self-intersecting input). Cost: O(F log F) (corefinement with the plane's box).
 core::Result<PlaneCut> cut_by_plane(const Mesh& mesh, core::Vec3 point, core::Vec3 normal);
+
+struct CutOff {
+  Mesh child;   // one connected piece on the normal side of the plane, closed
+  Mesh parent;  // everything else: the other side and the other pieces on the normal side, as one solid
+};
+
+// Chooses the child among the connected pieces on the normal side (in the order given), by index,
+// or refuses them all (nothing is cut off; the parent is not built).
+using PiecePicker = std::function<std::optional<std::size_t>(const std::vector<Mesh>& pieces)>;
+
+// Cuts MESH by the plane (POINT, NORMAL) and takes off as the child the piece on the normal side
+// that PICK chooses; the parent is the rest, the other side with the other pieces put back onto
+// it (in exact arithmetic, so the caps they share vanish instead of doubling). Preconditions as
+// cut_by_plane. Error kInfeasible when the plane leaves either side empty or CGAL cannot cut or
+// unite (pieces meeting the rest along an edge only, or more than 3 pieces besides the child), or
+// when PICK refuses. Cost: O(F log F) per piece.
+core::Result<CutOff> cut_off(const Mesh& mesh, core::Vec3 point, core::Vec3 normal, const PiecePicker& pick);
+
+// The union of closed, outward, non-self-intersecting PIECES as one mesh: pieces touching along
+// faces become one solid, with no doubled faces (the faces must match exactly: coordinates already
+// rounded from one cut's caps may not, see cut_off).
+// Error kInfeasible when CGAL cannot (the result would not be a manifold: pieces meeting along an
+// edge or a point only). Cost: O(F log F) per piece.
+core::Result<Mesh> unite(const std::vector<Mesh>& pieces);
 
 }  // namespace polyaxis::mesh

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -54,7 +56,29 @@ inline RegionTree pipeline(const mesh::RepairedMesh& part) {
   return std::move(tree.value());
 }
 
-// Closed regions, parents first, volumes summing to the part's.
+// A region is one solid: its shells (vertex-connected pieces) may be apart but never touch, as
+// the pieces of a cut put back side by side without a union would (they share positions along the
+// cap, and the next cut of such a mesh can crash CGAL).
+inline void expect_no_touching_shells(const mesh::Mesh& m, std::uint32_t id) {
+  std::vector<std::uint32_t> root(m.vertices.size());
+  for (std::uint32_t i = 0; i < root.size(); ++i) root[i] = i;
+  auto find = [&](std::uint32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  for (const auto& t : m.triangles) root[find(t[0])] = find(t[1]), root[find(t[1])] = find(t[2]);
+  std::map<std::tuple<double, double, double>, std::uint32_t> shell_at;
+  std::size_t shared = 0;
+  for (std::uint32_t v = 0; v < m.vertices.size(); ++v) {
+    const auto key = std::make_tuple(m.vertices[v].x, m.vertices[v].y, m.vertices[v].z);
+    auto [it, inserted] = shell_at.emplace(key, find(v));
+    if (!inserted && find(it->second) != find(v)) ++shared;
+  }
+  EXPECT_EQ(shared, 0u) << "region " << id << ": shells touch at " << shared << " points";
+}
+
+// Closed regions, in build order (each after its parent and every region its base lies on; its
+// parent among those), volumes summing to the part's.
 inline void expect_partition(const RegionTree& tree, const mesh::Mesh& part) {
   const double volume = mesh::signed_volume(part);
   double sum = 0.0;
@@ -68,7 +92,10 @@ inline void expect_partition(const RegionTree& tree, const mesh::Mesh& part) {
     } else {
       ASSERT_TRUE(r.parent.has_value());
       EXPECT_LT(*r.parent, r.id);
+      EXPECT_NE(std::find(r.rests_on.begin(), r.rests_on.end(), *r.parent), r.rests_on.end()) << "region " << r.id;
     }
+    for (std::uint32_t below : r.rests_on) EXPECT_LT(below, r.id) << "region " << r.id;
+    expect_no_touching_shells(r.mesh, r.id);
     sum += r.volume_mm3;
   }
   EXPECT_NEAR(sum, volume, kVolumeRelTolerance * volume);
@@ -93,8 +120,25 @@ inline std::vector<int> match_directions(const RegionTree& tree, const std::vect
   return out;
 }
 
+// Each region support-free in its own direction at the default 30°: its flag, and, counted here
+// from its facets, less than kStrayOverhangMm2 of facets facing down past the limit off its base
+// plane (the cut's slivers where a plane grazes a tessellated curve).
+inline constexpr double kStrayOverhangMm2 = 0.5;
 inline void expect_support_free(const RegionTree& tree) {
-  for (const Region& r : tree.regions) EXPECT_TRUE(r.support_free) << "region " << r.id << ": " << r.unsupported_area_mm2 << " mm2";
+  for (const Region& r : tree.regions) {
+    EXPECT_TRUE(r.support_free) << "region " << r.id << ": " << r.unsupported_area_mm2 << " mm2";
+    const Vec3 d = core::normalized(r.build_direction), bn = core::normalized(r.base_normal);
+    double overhang = 0.0;
+    for (std::size_t f = 0; f < r.mesh.triangles.size(); ++f) {
+      const Vec3 a2 = mesh::face_area_vector(r.mesh, f);
+      const double len = core::norm(a2);
+      if (len == 0.0 || core::dot(a2, d) >= -0.5 * len) continue;  // sin 30°
+      bool on_base = true;
+      for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(r.mesh.corner(f, k) - r.base_point, bn)) <= 1e-6;
+      if (!on_base) overhang += len / 2.0;
+    }
+    EXPECT_LT(overhang, kStrayOverhangMm2) << "region " << r.id;
+  }
 }
 
 }  // namespace polyaxis::analysis::test

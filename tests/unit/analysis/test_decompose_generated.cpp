@@ -131,5 +131,49 @@ TEST(DecomposeGenerated, BodyWithRoundLugsAndKnucklesOfOtherSizes) {
   expect_support_free(tree);
 }
 
+// A column carrying a second one that starts higher up, offset sideways: the second's start face
+// hangs over nothing beside the first (two_branches' +X arm in boxes). Nothing along the axis cuts
+// it off; the hanging piece becomes a region of its own, built sideways from the first column.
+class OffsetColumn : public ::testing::TestWithParam<std::pair<double, double>> {};
+
+TEST_P(OffsetColumn, HangingStartBuildsSideways) {
+  const auto [offset, start] = GetParam();
+  const auto part = repaired(polyaxis::test::mesh_union(polyaxis::test::box({0, 0, 0}, {12, 12, 40}),
+                                                        polyaxis::test::box({offset, 0, start}, {offset + 12, 12, start + 30})));
+  const RegionTree tree = pipeline(part);
+  expect_partition(tree, part.mesh);
+  expect_support_free(tree);
+  // What hangs, (offset × 12) mm² of start face, goes into sideways regions (build direction
+  // more than 60° from +Z, towards +X), at most a few, holding at least the hanging block beneath
+  // the first column's top.
+  double sideways = 0.0;
+  for (const Region& r : tree.regions) {
+    if (angle_between_deg(r.build_direction, {0, 0, 1}) > 60.0) {
+      EXPECT_GT(r.build_direction.x, 0.5) << "region " << r.id;
+      sideways += r.volume_mm3;
+    }
+  }
+  EXPECT_GT(sideways, 0.0);
+  EXPECT_LE(tree.regions.size(), 4u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Offsets, OffsetColumn, ::testing::Values(std::pair{4.0, 25.0}, std::pair{7.0, 30.0}, std::pair{9.0, 20.0}));
+
+// An L-block on a base plate that carries a short post under the arm: the plane that cuts the arm
+// off also cuts the plate and the post, whose piece stays with the parent. The parent is that
+// piece and the rest put back together as one solid, not two shells touching along the cut
+// (expect_partition); a mesh of touching shells crashed the next cut.
+TEST(DecomposeGenerated, ArmOverAPostLeavesTheParentOneSolid) {
+  const auto base = polyaxis::test::mesh_union(polyaxis::test::box({0, 0, 0}, {60, 16, 6}), polyaxis::test::box({0, 0, 0}, {16, 16, 50}));
+  const auto part = repaired(polyaxis::test::mesh_union(
+      polyaxis::test::mesh_union(base, polyaxis::test::box({0, 0, 34}, {56, 16, 50})), polyaxis::test::box({40, 4, 0}, {48, 12, 20})));
+  const RegionTree tree = pipeline(part);
+  expect_partition(tree, part.mesh);
+  expect_support_free(tree);
+  const auto ids = match_directions(tree, {{0, 0, 1}, {1, 0, 0}});
+  EXPECT_EQ(ids[0], 0);
+  EXPECT_GE(ids[1], 1);
+}
+
 }  // namespace
 }  // namespace polyaxis::analysis::test

@@ -64,5 +64,38 @@ TEST(PlaneCut, PlaneMissingThePart) {
   EXPECT_TRUE(cut.value().above.triangles.empty());
 }
 
+// A fork (a base with two prongs) cut across both prongs by a tilted plane: the child is the prong
+// the picker takes; the other prong's tip goes back onto the parent, which is one solid (no shells
+// touching along the cap) and can be cut again.
+TEST(PlaneCut, CutOffPutsTheOtherPiecesBackAsOneSolid) {
+  auto fork = unite({solid(test::box({0, 0, 0}, {30, 10, 10})), solid(test::box({0, 0, 5}, {10, 10, 40})),
+                     solid(test::box({20, 0, 5}, {30, 10, 40}))});
+  ASSERT_TRUE(fork.ok()) << fork.error().message;
+  const Mesh& m = fork.value();
+  expect_closed(m);
+  std::size_t offered = 0;
+  auto cut = cut_off(m, {0, 0, 25}, {0.1, 0.05, 1.0}, [&](const std::vector<Mesh>& pieces) -> std::optional<std::size_t> {
+    offered = pieces.size();
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      if (bounding_box(pieces[i]).min.x > 15.0) return i;  // the +X prong
+    }
+    return std::nullopt;
+  });
+  ASSERT_TRUE(cut.ok()) << cut.error().message;
+  EXPECT_EQ(offered, 2u);
+  expect_closed(cut.value().child);
+  expect_closed(cut.value().parent);
+  EXPECT_NEAR(signed_volume(cut.value().child) + signed_volume(cut.value().parent), signed_volume(m), 1e-6 * signed_volume(m));
+  auto again = repair(io::RawMesh{cut.value().parent.vertices, cut.value().parent.triangles});
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again.value().shells.size(), 1u);
+  auto second = cut_by_plane(cut.value().parent, {0, 0, 20}, {-0.2, 0.1, 1.0});
+  ASSERT_TRUE(second.ok()) << second.error().message;
+  expect_closed(second.value().above);
+  // Refusing every piece cuts nothing off.
+  EXPECT_FALSE(cut_off(m, {0, 0, 25}, {0, 0, 1}, [](const std::vector<Mesh>&) { return std::optional<std::size_t>{}; }).ok());
+}
+
+
 }  // namespace
 }  // namespace polyaxis::mesh

@@ -77,6 +77,23 @@ TEST(Subdivide, LeavingTheUpsideDownAxisTurnsCFirst) {
   EXPECT_GT(check(m, {0.0, 0.0, -28.0}, down, {0.0, -4.0, -27.8}, leaning, 0.008), 1u);
 }
 
+TEST(Subdivide, AxisSwingingPastThePoleFollowsOneBranch) {
+  // Regression (two_branches --decompose): a short move whose axis turns 57° and passes about 0.4°
+  // beside the vertical, 5 mm from the C axis. C swings a half turn near the pole; the pose nearest
+  // the start at the end was the other branch (tilt negated, C a half turn away), and bisecting
+  // towards it ended 4.7 mm off the segment.
+  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC}) {
+    const MachineConfig m = machine(kind);
+    EXPECT_GT(check(m, {0.2899, 4.6843, 41.0487}, {0.8333, -0.0289, 0.5520}, {0.2746, 4.6985, 41.0725},
+                    {-0.0614, -0.0073, 0.9981}, 0.008),
+              36u);  // at least a half turn of C in 5° pieces
+    // And the transit over the top of the sphere, 0.8° beside the pole.
+    EXPECT_GT(check(m, {-2.6820, 1.5638, 97.4898}, normalized(Vec3{-2.6820, 1.5638, 97.4898}), {2.4337, 1.3052, 97.5067},
+                    normalized(Vec3{2.4337, 1.3052, 97.5067}), 0.008),
+              1u);
+  }
+}
+
 TEST(Subdivide, PureTranslationIsOneBlock) {
   const MachineConfig m = machine(Kinematics::kTableTiltB_RotaryC);
   EXPECT_EQ(check(m, {0.0, 0.0, 0.0}, tilted(20.0, 10.0), {50.0, 20.0, 5.0}, tilted(20.0, 10.0), 0.001), 1u);

@@ -1,0 +1,158 @@
+#include "support.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "polyaxis/core/progress.h"
+#include "polyaxis/geom2d/clip.h"
+#include "polyaxis/slicing/section.h"
+
+namespace polyaxis::planner::detail {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMaxSupportAngleDeg = 89.0;  // tan() of the grown angle stays finite
+// A sliver of overhang smaller than this is the polygonal sections disagreeing along a wall at
+// exactly the self-supporting angle, not material hanging in the air.
+constexpr double kPieceNoiseMm2 = 1e-3;
+// A layer within this of the table's top, built within kUprightCos of +Z, stands on the table.
+constexpr double kOnTableMm = 1e-6;
+constexpr double kUprightCos = 1e-9;
+
+double angle_deg(Vec3 a, Vec3 b) {
+  const double c = core::dot(core::normalized(a), core::normalized(b));
+  return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
+}
+
+// The unsupported area of LAYER over BELOW (polygons in the layer's (u, v) frame, T mm under it;
+// see PlanOptions' comment in plan.h); the unsupported pieces are appended to PIECES.
+double unsupported_area(const std::vector<geom2d::Polygon>& below, double t, const slicing::Layer& layer,
+                        const toolpath::LayerToolpaths& paths, double alpha_deg, double bead_mm, std::vector<geom2d::Polygon>& pieces) {
+  const double base_grow = t * std::tan(alpha_deg * kPi / 180.0);
+  const auto overhang = geom2d::difference_rings(geom2d::rings_of(layer.polygons), geom2d::rings_of(geom2d::offset(below, base_grow)));
+  double total = 0.0;
+  std::map<int, std::vector<geom2d::Ring>> grown_by_angle;  // the layer below grown, per tilt (0.1° steps)
+  for (const geom2d::Polygon& piece : overhang) {
+    const double piece_area = geom2d::area_mm2(piece);
+    if (piece_area <= kPieceNoiseMm2) continue;
+    // Largest torch tilt of the outer-contour points over this piece (within a bead of its box).
+    std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
+    for (const auto& q : piece.outer) x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
+    const std::int64_t margin = geom2d::to_units(bead_mm);
+    double tilt = 0.0;
+    for (const toolpath::Path& path : paths.paths) {
+      if (!path.outer_contour) continue;
+      for (const toolpath::PathPoint& p : path.points) {
+        const Vec3 rel = p.position_mm - layer.frame.origin;
+        const std::int64_t u = geom2d::to_units(core::dot(rel, layer.frame.u)), v = geom2d::to_units(core::dot(rel, layer.frame.v));
+        if (u < x0 - margin || u > x1 + margin || v < y0 - margin || v > y1 + margin) continue;
+        tilt = std::max(tilt, angle_deg(p.tool_axis, layer.frame.d));
+      }
+    }
+    if (tilt <= 0.0) {
+      total += piece_area;
+      pieces.push_back(piece);
+      continue;
+    }
+    const int key = static_cast<int>(std::floor(std::min(alpha_deg + tilt, kMaxSupportAngleDeg) * 10.0));  // rounded down: conservative
+    auto it = grown_by_angle.find(key);
+    if (it == grown_by_angle.end()) {
+      it = grown_by_angle.emplace(key, geom2d::rings_of(geom2d::offset(below, t * std::tan(key / 10.0 * kPi / 180.0)))).first;
+    }
+    std::vector<geom2d::Polygon> left = geom2d::difference_rings(geom2d::rings_of({piece}), it->second);
+    total += geom2d::area_mm2(left);
+    pieces.insert(pieces.end(), left.begin(), left.end());
+  }
+  return total;
+}
+
+// The regions built before a region, sectioned along its direction (contexts made on first use).
+class BuiltBefore {
+ public:
+  BuiltBefore(const std::vector<PlanRegion>& regions) : regions_(regions) {}
+
+  // The material of the regions before REGION_INDEX (build order) on the plane of FRAME, in its (u, v).
+  std::vector<geom2d::Polygon> section(std::size_t region_index, const slicing::Frame& frame) {
+    std::vector<geom2d::Ring> rings;
+    const double h = core::dot(frame.origin, frame.d);
+    for (std::size_t q = 0; q < region_index; ++q) {
+      auto& ctx = contexts_[{region_index, q}];
+      if (!ctx) ctx = std::make_unique<slicing::SectionContext>(regions_[q].mesh, frame.d);
+      if (h < ctx->min_height() || h > ctx->max_height()) continue;
+      candidates_.clear();
+      for (std::uint32_t f = 0; f < regions_[q].mesh.triangles.size(); ++f) {
+        if (ctx->face_min(f) <= h && ctx->face_max(f) >= h) candidates_.push_back(f);
+      }
+      const slicing::SectionResult s = slicing::section(*ctx, h, frame, candidates_, scratch_);
+      for (geom2d::Ring& r : geom2d::rings_of(s.polygons)) rings.push_back(std::move(r));
+    }
+    return geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
+  }
+
+ private:
+  const std::vector<PlanRegion>& regions_;
+  std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<slicing::SectionContext>> contexts_;
+  std::vector<std::uint32_t> candidates_;
+  slicing::SectionScratch scratch_;
+};
+
+}  // namespace
+
+void check_support(Plan& plan, const motion::ProcessConfig& process) {
+  const auto& ls = plan.layers.layers;
+  plan.layer_reports.resize(ls.size());
+  std::map<std::uint32_t, std::size_t> index_of;  // region id -> build order
+  for (std::size_t i = 0; i < plan.placed_regions.size(); ++i) index_of[plan.placed_regions[i].id] = i;
+  BuiltBefore built(plan.placed_regions);
+  core::Progress progress("support", ls.size());
+  for (std::size_t k = 0; k < ls.size(); ++k) {
+    progress.update(k);
+    LayerReport& r = plan.layer_reports[k];
+    r.index = ls[k].index;
+    r.region = plan.region_of_layer[k];
+    const Vec3 layer_d = ls[k].frame.d;
+    r.height_mm = ls[k].height_mm;
+    r.thickness_mm = ls[k].thickness_mm();
+    r.area_mm2 = ls[k].area_mm2;
+    const toolpath::LayerToolpaths& lt = plan.toolpaths[k];
+    r.paths = static_cast<std::uint32_t>(lt.paths.size());
+    for (const auto& path : lt.paths) {
+      for (const auto& p : path.points) {
+        if (p.deposit) r.max_tilt_deg = std::max(r.max_tilt_deg, angle_deg(p.tool_axis, layer_d));
+      }
+    }
+    const std::size_t region_index = index_of.count(r.region) ? index_of[r.region] : 0;
+    const bool first = k == 0 || plan.region_of_layer[k - 1] != r.region;
+    // The first region's first layer stands on the table, and so does any region's first layer
+    // built upright from the table's top (Z = 0 after placement).
+    const bool on_table = layer_d.z > 1.0 - kUprightCos && ls[k].height_mm - ls[k].below_mm <= kOnTableMm;
+    if (first && (region_index == 0 || on_table)) continue;
+    const double alpha = process.self_supporting_deg, bead = process.bead_width_mm;
+    double t = r.thickness_mm;
+    std::vector<geom2d::Polygon> below;
+    if (!first) t = ls[k].height_mm - ls[k - 1].height_mm, below = ls[k - 1].polygons;
+    std::vector<geom2d::Polygon> pieces;
+    double area = first ? r.area_mm2 : unsupported_area(below, t, ls[k], lt, alpha, bead, pieces);
+    if (area >= kUnsupportedNoiseMm2 && region_index > 0) {
+      // What the earlier regions hold one layer below this one.
+      slicing::Frame under = ls[k].frame;
+      under.origin = under.origin - under.d * t;
+      std::vector<geom2d::Ring> rings = geom2d::rings_of(below);
+      for (geom2d::Ring& ring : geom2d::rings_of(built.section(region_index, under))) rings.push_back(std::move(ring));
+      pieces.clear();
+      area = unsupported_area(geom2d::union_rings(rings, geom2d::FillRule::kNonZero), t, ls[k], lt, alpha, bead, pieces);
+    }
+    if (area >= kUnsupportedNoiseMm2) r.unsupported_area_mm2 = area, r.unsupported = std::move(pieces);
+    plan.unsupported_area_mm2 += r.unsupported_area_mm2;
+  }
+  // A region is support-free only when the layer check agrees with the region's own flag.
+  for (PlanRegion& region : plan.placed_regions) {
+    for (const LayerReport& r : plan.layer_reports) {
+      if (r.region == region.id && r.unsupported_area_mm2 > 0.0) region.support_free = false;
+    }
+  }
+}
+
+}  // namespace polyaxis::planner::detail

@@ -1,0 +1,82 @@
+// The plan's support check: a layer rests on the layer below it and on the regions built before.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "polyaxis/mesh/repair.h"
+#include "polyaxis/motion/machine.h"
+#include "polyaxis/motion/process.h"
+#include "polyaxis/planner/plan.h"
+#include "support/meshes.h"
+
+namespace polyaxis::planner {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+mesh::RepairedMesh repaired(io::RawMesh raw) {
+  mesh::RepairOptions o;
+  o.check_self_intersections = false;
+  auto r = mesh::repair(std::move(raw), o);
+  EXPECT_TRUE(r.ok());
+  return std::move(r.value());
+}
+
+PlanRegion region(std::uint32_t id, const mesh::RepairedMesh& m, Vec3 direction, std::optional<std::uint32_t> parent) {
+  PlanRegion r;
+  r.id = id;
+  r.mesh = m.mesh;
+  r.direction = direction;
+  r.parent = parent;
+  return r;
+}
+
+// A 20 mm cube split at z = 10: the lower half built +Z, the upper half leaning 20° about Y (its
+// layers start at one edge of the cut and spread over it, 2.7 mm a layer).
+struct Split {
+  mesh::RepairedMesh whole = repaired(polyaxis::test::box({0, 0, 0}, {20, 20, 20}));
+  mesh::RepairedMesh lower = repaired(polyaxis::test::box({0, 0, 0}, {20, 20, 10}));
+  mesh::RepairedMesh upper = repaired(polyaxis::test::box({0, 0, 10}, {20, 20, 20}));
+  Vec3 leaning{std::sin(20.0 * kPi / 180.0), 0.0, std::cos(20.0 * kPi / 180.0)};
+};
+
+Plan plan_of(const mesh::RepairedMesh& whole, const std::vector<PlanRegion>& regions) {
+  auto machine = motion::parse_machine(motion::default_machine_json(), "default");
+  auto process = motion::parse_process(motion::default_process_json(), "default");
+  EXPECT_TRUE(machine.ok() && process.ok());
+  PlanOptions o;
+  o.tilt_on_overhang = false;
+  auto plan = make_plan(whole, machine.value(), process.value(), o, regions);
+  EXPECT_TRUE(plan.ok()) << (plan.ok() ? "" : plan.error().message);
+  return std::move(plan.value());
+}
+
+TEST(SupportCheck, LayersSpreadingOverTheRegionBelowRestOnIt) {
+  const Split s;
+  const Plan plan = plan_of(s.whole, {region(0, s.lower, {0, 0, 1}, std::nullopt), region(1, s.upper, s.leaning, 0)});
+  EXPECT_EQ(plan.unsupported_area_mm2, 0.0);
+  for (const PlanRegion& r : plan.placed_regions) EXPECT_TRUE(r.support_free) << r.id;
+  // The upper region's layers do spread: each of its first layers reaches beyond the one before
+  // by more than t·tan(α), which only the lower region holds up.
+  std::size_t upper_layers = 0;
+  double first_area = 0.0, tenth_area = 0.0;
+  for (std::size_t k = 0; k < plan.layer_reports.size(); ++k) {
+    if (plan.layer_reports[k].region != 1) continue;
+    if (upper_layers == 0) first_area = plan.layer_reports[k].area_mm2;
+    if (upper_layers == 9) tenth_area = plan.layer_reports[k].area_mm2;
+    ++upper_layers;
+  }
+  EXPECT_GT(tenth_area, first_area + 100.0);
+}
+
+TEST(SupportCheck, ARegionBuiltBeforeWhatHoldsItHangs) {
+  // The same regions the wrong way round: the upper half first stands on the table at its lowest
+  // edge and its underside (the cut, facing down) hangs over nothing yet.
+  const Split s;
+  const Plan plan = plan_of(s.whole, {region(0, s.upper, s.leaning, std::nullopt), region(1, s.lower, {0, 0, 1}, 0)});
+  EXPECT_GT(plan.unsupported_area_mm2, 100.0);
+  EXPECT_FALSE(plan.placed_regions[0].support_free);
+}
+
+}  // namespace
+}  // namespace polyaxis::planner
