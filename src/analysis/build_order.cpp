@@ -15,13 +15,8 @@ namespace {
 constexpr std::size_t kMaxProbes = 16;
 constexpr double kProbeDepthMm = 0.01;
 
-bool in_box(const mesh::Mesh& m, Vec3 p) {
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const Vec3& v : m.vertices) {
-    lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
-    hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
-  }
-  return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
+bool in_box(const core::Box3& b, Vec3 p) {
+  return p.x >= b.min.x && p.y >= b.min.y && p.z >= b.min.z && p.x <= b.max.x && p.y <= b.max.y && p.z <= b.max.z;
 }
 
 // Points just below R's base cap: centroids of its largest facets on the base plane.
@@ -47,13 +42,15 @@ std::vector<Vec3> base_probes(const Region& r) {
 void order_by_support(std::vector<Region>& regions) {
   const std::size_t n = regions.size();
   std::vector<std::vector<std::uint32_t>> below(n);  // by index
+  std::vector<core::Box3> boxes;
+  for (const Region& r : regions) boxes.push_back(mesh::bounding_box(r.mesh));
   for (std::size_t b = 1; b < n; ++b) {
     if (regions[b].parent) below[b].push_back(*regions[b].parent);
     const std::vector<Vec3> probes = base_probes(regions[b]);
     for (std::size_t a = 0; a < n; ++a) {
       if (a == b || std::find(below[b].begin(), below[b].end(), a) != below[b].end()) continue;
       const bool holds = std::any_of(probes.begin(), probes.end(),
-                                     [&](Vec3 p) { return in_box(regions[a].mesh, p) && winding(regions[a].mesh, p) > 0.5; });
+                                     [&](Vec3 p) { return in_box(boxes[a], p) && winding(regions[a].mesh, p) > 0.5; });
       if (holds) below[b].push_back(static_cast<std::uint32_t>(a));
     }
   }

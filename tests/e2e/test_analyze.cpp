@@ -1,0 +1,63 @@
+// `polyaxis analyze` end to end: analysis.json's schema (docs/analyze.md) and the region STLs.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "polyaxis/io/read_part.h"
+#include "support/cli.h"
+
+namespace polyaxis::test {
+namespace {
+
+double volume_of(const io::RawMesh& m) {
+  double six = 0.0;
+  for (const auto& t : m.triangles) {
+    const core::Vec3 a = m.points[t[0]], b = m.points[t[1]], c = m.points[t[2]];
+    six += core::dot(a, core::cross(b, c));
+  }
+  return six / 6.0;
+}
+
+TEST(AnalyzeCli, TwoBranchesWritesTheSchemaAndOneStlPerRegion) {
+  TempDir dir;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/two_branches.stl";
+  const auto r = run_cli("analyze '" + part + "' --json -o '" + dir.path().string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(slurp(dir / "analysis.json"));
+  EXPECT_EQ(nlohmann::json::parse(r.out), doc);  // --json prints the file
+  EXPECT_GT(doc["overhang_area_mm2"].get<double>(), 600.0);
+  for (const auto& n : doc["centroidal_axis"]["nodes"]) {
+    for (const char* key : {"id", "position", "direction", "area_mm2"}) EXPECT_TRUE(n.contains(key)) << key;
+  }
+  for (const auto& l : doc["centroidal_axis"]["links"]) {
+    for (const char* key : {"from", "to", "break"}) EXPECT_TRUE(l.contains(key)) << key;
+  }
+  EXPECT_FALSE(doc["skeleton"]["nodes"].empty());
+  EXPECT_FALSE(doc["skeleton"]["edges"].empty());
+  const auto& regions = doc["regions"];
+  ASSERT_GE(regions.size(), 3u);
+  double total = 0.0;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const auto& g = regions[i];
+    EXPECT_EQ(g["id"].get<std::size_t>(), i);
+    EXPECT_EQ(g["parent"].is_null(), i == 0);
+    EXPECT_TRUE(g["support_free"].get<bool>()) << i;
+    // Build order: what a region rests on comes before it, its parent among them.
+    for (const auto& below : g["rests_on"]) EXPECT_LT(below.get<std::size_t>(), i);
+    if (i > 0) {
+      EXPECT_NE(std::find(g["rests_on"].begin(), g["rests_on"].end(), g["parent"]), g["rests_on"].end()) << i;
+    }
+    auto stl = io::read_part((dir / g["stl"].get<std::string>()).string());
+    ASSERT_TRUE(stl.ok()) << g["stl"];
+    const double v = volume_of(stl.value().mesh);
+    EXPECT_NEAR(v, g["volume_mm3"].get<double>(), 1e-3 * g["volume_mm3"].get<double>()) << i;  // STL floats
+    total += v;
+  }
+  EXPECT_NEAR(total, 14717.2, 0.001 * 14717.2);  // parts/README.md
+}
+
+}  // namespace
+}  // namespace polyaxis::test
