@@ -4,11 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
 #include <cmath>
 
-#include "polyaxis/core/progress.h"
-#include "polyaxis/geom2d/clip.h"
 #include "polyaxis/mesh/properties.h"
 #include "support.h"
 #include "transit.h"
@@ -25,8 +22,6 @@ double angle_deg(Vec3 a, Vec3 b) {
   const double c = core::dot(core::normalized(a), core::normalized(b));
   return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
 }
-
-
 
 }  // namespace
 
