@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <span>
 #include <tbb/parallel_for.h>
 
@@ -393,9 +394,9 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   // link's branch, cuts the link whose best candidate removes the most overhang, and stops when no
   // split removes any.
   std::vector<SplitLink> links = split_links(axis);
-  core::Progress progress("decompose", links.size());  // links decided
+  auto progress = std::make_unique<core::Progress>("decompose", links.size());  // links decided
   for (;;) {
-    progress.update(static_cast<std::uint64_t>(std::count_if(links.begin(), links.end(), [](const SplitLink& l) { return l.done; })));
+    progress->update(static_cast<std::uint64_t>(std::count_if(links.begin(), links.end(), [](const SplitLink& l) { return l.done; })));
     std::size_t best_link = links.size(), best_host = 0;
     double best_gain = 0.0;
     std::vector<Candidate> best_candidates;
@@ -451,6 +452,10 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
 
   // What the links leave: each overhang patch, largest first, may be cut off into a region of its
   // own, built along a direction in which it stands (patch_split.h), when that removes overhang.
+  progress->update(links.size());
+  progress.reset();  // the links' stage ends here
+  core::Progress patch_progress("overhang patches", 0);  // patches tried
+  std::uint64_t patches_tried = 0;
   for (int splits = 0; splits < kMaxPatchSplits;) {
     bool split = false;
     for (std::size_t host = 0; host < tree.regions.size() && !split; ++host) {
@@ -462,6 +467,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       hr.keep_base = !h.parent || h.rule == "below the plate";
       const auto patches = detail::overhang_patches(h.mesh, topology[host], h.build_direction, alpha, h.base_point, h.base_normal);
       for (std::size_t p = 0; p < patches.size() && p < kMaxPatchesPerRegion && !split; ++p) {
+        patch_progress.update(++patches_tried);
         const std::vector<detail::PatchCandidate> cands = detail::patch_candidates(hr, patches[p], axis.increment_mm, alpha);
         const std::vector<Vec3> targets = detail::patch_targets(h.mesh, patches[p]);
         std::optional<ExactSplit> chosen;
