@@ -97,5 +97,17 @@ TEST(PlaneCut, CutOffPutsTheOtherPiecesBackAsOneSolid) {
 }
 
 
+// A cavity wholly on the far side goes with the piece around it (the child here), not the parent.
+TEST(PlaneCut, CutOffKeepsACavityWithThePieceAroundIt) {
+  auto hollow = repair(test::join(test::box({0, 0, 0}, {20, 20, 20}), test::flipped(test::box({12, 6, 6}, {16, 10, 10}))));
+  ASSERT_TRUE(hollow.ok());
+  auto cut = cut_off(hollow.value().mesh, {10, 0, 0}, {1, 0, 0}, [](const std::vector<Mesh>& pieces) -> std::optional<std::size_t> {
+    return pieces.size() == 1 ? std::optional<std::size_t>{0} : std::nullopt;  // the cavity is not offered
+  });
+  ASSERT_TRUE(cut.ok()) << cut.error().message;
+  EXPECT_NEAR(signed_volume(cut.value().child), 10.0 * 20.0 * 20.0 - 64.0, 1e-9);
+  EXPECT_NEAR(signed_volume(cut.value().parent), 10.0 * 20.0 * 20.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace polyaxis::mesh
