@@ -123,9 +123,10 @@ core::Result<CutOff> cut_off(const Mesh& mesh, Vec3 point, Vec3 normal, const Pi
   if (solids.empty() || near_side.number_of_faces() == 0) {
     return core::make_error(core::ErrorCode::kInfeasible, "the plane does not cut the part in two");
   }
-  std::vector<Mesh> candidates;
-  for (std::size_t i : solids) candidates.push_back(rounded[i]);
+  std::vector<Mesh> candidates;  // lent to PICK, then given back
+  for (std::size_t i : solids) candidates.push_back(std::move(rounded[i]));
   const std::optional<std::size_t> chosen = pick(candidates);
+  for (std::size_t k = 0; k < solids.size(); ++k) rounded[solids[k]] = std::move(candidates[k]);
   if (!chosen) return core::make_error(core::ErrorCode::kInfeasible, "no piece of the cut was taken");
   if (*chosen >= solids.size()) return core::make_error(core::ErrorCode::kInternal, "cut_off: the picked piece does not exist");
   const std::size_t child = solids[*chosen];
