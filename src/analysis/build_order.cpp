@@ -62,10 +62,14 @@ void order_by_support(std::vector<Region>& regions) {
     for (std::size_t i = 0; i < n && next == n; ++i) {
       if (!placed[i] && std::all_of(below[i].begin(), below[i].end(), [&](std::uint32_t a) { return placed[a] != 0; })) next = i;
     }
-    if (next == n) {  // a cycle: keep the given order
+    if (next == n) {
+      // A cycle (not expected: a base lies on material already there). The lowest unplaced region
+      // has its parent placed (parents come first on entry); it goes next, and what it would
+      // wait for is dropped from its rests_on, so the order still holds for what is listed.
       for (std::size_t i = 0; i < n && next == n; ++i) {
         if (!placed[i]) next = i;
       }
+      std::erase_if(below[next], [&](std::uint32_t a) { return placed[a] == 0; });
     }
     placed[next] = 1;
     order.push_back(next);

@@ -199,13 +199,19 @@ struct ExactSplit {
   double child_mm2 = INFINITY;
 };
 
+struct ExactRules {
+  bool child_must_stand = false;  // a child left with overhang ends the split before the parent is built
+  bool keep_base = false;         // a child with facets on the host's base is refused
+};
+
 // Cuts HOST by the plane (POINT, NORMAL towards the child; capped); the child is the piece on the
 // normal side nearest TARGETS, every other piece stays with the parent, put back onto it as one
-// solid (mesh::cut_off). The child's direction is the best of STARTS and the search from them. With
-// CHILD_MUST_STAND a child left with overhang ends the split before the parent is built.
+// solid (mesh::cut_off). The child's direction is the best of STARTS and the search from them. RULES
+// refuse some children (before the parent is built, where they can).
 std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 normal, const std::vector<Vec3>& targets,
-                                      std::span<const Vec3> starts, double alpha_deg, bool child_must_stand = false) {
+                                      std::span<const Vec3> starts, double alpha_deg, const ExactRules& rules = {}) {
   ExactSplit out;
+  const Vec3 hb = core::normalized(host.base_normal);
   auto cut = mesh::cut_off(host.mesh, point, normal, [&](const std::vector<mesh::Mesh>& pieces) -> std::optional<std::size_t> {
     std::size_t pick = 0;
     double best = INFINITY;
@@ -213,15 +219,25 @@ std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 norma
       const double d = distance_sum(pieces[i], targets);
       if (d < best) best = d, pick = i;
     }
-    const std::vector<detail::FacetSample> facets = detail::facet_samples(pieces[pick], point, normal);
+    const mesh::Mesh& child = pieces[pick];
+    if (rules.keep_base) {
+      for (std::size_t f = 0; f < child.triangles.size(); ++f) {
+        bool on_base = true;
+        for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(child.corner(f, k) - host.base_point, hb)) <= kOnBaseMm;
+        if (on_base) return std::nullopt;
+      }
+    }
+    const std::vector<detail::FacetSample> facets = detail::facet_samples(child, point, normal);
     out.direction = detail::best_direction(facets, normal, starts, alpha_deg);
-    out.child_mm2 = detail::unsupported(pieces[pick], out.direction, alpha_deg, point, normal);
-    if (child_must_stand && out.child_mm2 > 0.0) return std::nullopt;
+    if (rules.child_must_stand && detail::unsupported(child, out.direction, alpha_deg, point, normal) > 0.0) return std::nullopt;
     return pick;
   });
   if (!cut) return std::nullopt;
   out.child = std::move(cut.value().child);
   out.parent = std::move(cut.value().parent);
+  // Counted on the child as cut, with any cavity it encloses.
+  out.child_mm2 = detail::unsupported(out.child, out.direction, alpha_deg, point, normal);
+  if (rules.child_must_stand && out.child_mm2 > 0.0) return std::nullopt;
   out.unsupported_mm2 = detail::unsupported(out.parent, host.build_direction, alpha_deg, host.base_point, host.base_normal) + out.child_mm2;
   return out;
 }
@@ -476,7 +492,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
           const detail::PatchCandidate& c = cands[k];
           if (c.screened.total() >= overhang[host] - kMinGainMm2) break;
           const Vec3 starts[] = {c.normal, c.screened.child_direction};
-          auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, /*child_must_stand=*/true);
+          auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, ExactRules{true, hr.keep_base});
           if (e && e->child_mm2 == 0.0 && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
             chosen = std::move(e), used = &c;
             if (chosen->unsupported_mm2 <= c.screened.total() + kUnsupportedNoiseMm2) break;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <tbb/parallel_for.h>
 
 namespace polyaxis::analysis::detail {
@@ -19,6 +20,7 @@ constexpr double kPatchStepFactors[] = {0.5, 2.0};
 // Facet visits allowed for screening one patch's candidates (each visits the host's facets once).
 constexpr double kPatchScreenBudget = 2e7;
 constexpr std::size_t kMinPatchCandidates = 24;
+constexpr std::size_t kMaxPatchCandidates = 240;
 constexpr std::size_t kMaxTargets = 8;
 
 Vec3 fibonacci(int i, int n) {
@@ -43,7 +45,7 @@ std::vector<PatchCandidate> patch_candidates(const HostRegion& host, const Overh
   }
   const std::size_t offsets = 1 + std::size(kPatchStepFactors);
   const double facets = static_cast<double>(std::max<std::size_t>(m.triangles.size(), 1));
-  const auto budget = std::max(kMinPatchCandidates, static_cast<std::size_t>(kPatchScreenBudget / facets));
+  const auto budget = std::clamp(static_cast<std::size_t>(kPatchScreenBudget / facets), kMinPatchCandidates, kMaxPatchCandidates);
   if (dirs.size() * offsets > budget) {
     const std::size_t keep = std::max<std::size_t>(1, budget / offsets);
     std::vector<Vec3> thinned;
@@ -66,14 +68,14 @@ std::vector<PatchCandidate> patch_candidates(const HostRegion& host, const Overh
   });
   // The child must stand on its own: a split that only moves overhang into a new region is no cure.
   std::erase_if(out, [](const PatchCandidate& c) { return !c.screened.valid || c.screened.child_mm2 > 0.0; });
+  // Best first, on keys rounded to the noise floor so that the order is a strict weak one: overhang
+  // left, then the child's surface, then the child's direction nearest the host's.
   const Vec3 hd = core::normalized(host.direction);
-  std::stable_sort(out.begin(), out.end(), [&](const PatchCandidate& a, const PatchCandidate& b) {
-    if (std::fabs(a.screened.total() - b.screened.total()) > kUnsupportedNoiseMm2) return a.screened.total() < b.screened.total();
-    if (std::fabs(a.screened.child_area_mm2 - b.screened.child_area_mm2) > kUnsupportedNoiseMm2) {
-      return a.screened.child_area_mm2 < b.screened.child_area_mm2;
-    }
-    return core::dot(a.screened.child_direction, hd) > core::dot(b.screened.child_direction, hd) + 1e-9;
-  });
+  auto key = [&](const PatchCandidate& c) {
+    return std::make_tuple(std::llround(c.screened.total() / kUnsupportedNoiseMm2), std::llround(c.screened.child_area_mm2 / kUnsupportedNoiseMm2),
+                           -core::dot(c.screened.child_direction, hd));
+  };
+  std::stable_sort(out.begin(), out.end(), [&](const PatchCandidate& a, const PatchCandidate& b) { return key(a) < key(b); });
   return out;
 }
 

@@ -19,8 +19,9 @@ struct PatchCandidate {
 // built nearest to the host's direction). The planes' normals are directions of a Fibonacci sphere along which the patch
 // itself stands (no facet of it past α − a margin); each plane lies just below the patch along its
 // normal, or stepped back by fractions and multiples of STEP_MM. A child may not take the host's
-// base. Screening is parallel; the candidate count is capped so that a patch costs about
-// kPatchScreenBudget facet visits (fewer directions on large meshes). Deterministic.
+// base. Screening is parallel; the candidate count is capped at kMaxPatchCandidates and so that a
+// patch costs about kPatchScreenBudget facet visits (fewer directions on large meshes), the
+// directions thinned evenly. Deterministic.
 std::vector<PatchCandidate> patch_candidates(const HostRegion& host, const OverhangPatch& patch, double step_mm, double alpha_deg);
 
 // Up to kMaxTargets points standing for PATCH (centroids of its largest facets): the exact cut keeps

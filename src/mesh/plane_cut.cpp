@@ -14,6 +14,7 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fmt/format.h>
 
 #include <map>
@@ -77,6 +78,19 @@ core::Status keep_negative(SurfaceMesh& sm, Vec3 point, Vec3 normal) {
     return core::make_error(core::ErrorCode::kInfeasible, "the plane cut left an invalid mesh (is the part self-intersecting?)");
   }
   return {};
+}
+
+// Whether the closed outward mesh M encloses P (generalised winding number above one half; van
+// Oosterom and Strackee's solid angle of each facet). O(F).
+bool encloses(const Mesh& m, Vec3 p) {
+  double sum = 0.0;
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+    const Vec3 a = m.corner(f, 0) - p, b = m.corner(f, 1) - p, c = m.corner(f, 2) - p;
+    const double la = core::norm(a), lb = core::norm(b), lc = core::norm(c);
+    sum += 2.0 * std::atan2(core::dot(a, core::cross(b, c)),
+                            la * lb * lc + core::dot(a, b) * lc + core::dot(b, c) * la + core::dot(c, a) * lb);
+  }
+  return sum > 2.0 * 3.14159265358979323846;  // 4π · ½
 }
 
 core::Result<SurfaceMesh> united(std::vector<SurfaceMesh> pieces) {
@@ -146,12 +160,8 @@ core::Result<CutOff> cut_off(const Mesh& mesh, Vec3 point, Vec3 normal, const Pi
   if (!joined) return joined.error();
   Mesh parent = to_mesh(joined.value());
   CutOff out{std::move(rounded[child]), std::move(parent)};
-  const core::Box3 child_box = bounding_box(out.child);
   for (std::size_t i : cavities) {
-    const core::Box3 b = bounding_box(rounded[i]);
-    const bool inside = b.min.x >= child_box.min.x && b.min.y >= child_box.min.y && b.min.z >= child_box.min.z &&
-                        b.max.x <= child_box.max.x && b.max.y <= child_box.max.y && b.max.z <= child_box.max.z;
-    Mesh& host = inside ? out.child : out.parent;
+    Mesh& host = encloses(out.child, rounded[i].vertices.front()) ? out.child : out.parent;
     const auto base = static_cast<std::uint32_t>(host.vertices.size());
     host.vertices.insert(host.vertices.end(), rounded[i].vertices.begin(), rounded[i].vertices.end());
     for (const Triangle& t : rounded[i].triangles) host.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});

@@ -16,6 +16,8 @@ constexpr double kSlerpParallelRad = 1e-12;
 constexpr double kReversedAxisRad = 1e-6;
 // A piece that would leave less than this share of the smallest piece before the end goes to the end.
 constexpr double kLastPieceShare = 0.5;
+// Leaving the singular axis, C is read where the tilt is this many times the singular limit.
+constexpr double kLeavePoleTilts = 16.0;
 
 Vec3 lerp(Vec3 a, Vec3 b, double s) { return a + (b - a) * s; }
 
@@ -106,8 +108,10 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
   const bool start_singular = start_tilt_rad < kSingularTiltRad || std::abs(start_tilt_rad - std::numbers::pi) < kSingularTiltRad;
   const double min_step = std::ldexp(1.0, -kMaxSubdivisionDepth);
   if (has_rotary_axes(machine.kind) && start_singular && omega > kSlerpParallelRad) {
-    // C as the axis leaves: its azimuth, constant along a great circle from the pole.
-    auto depart = inverse(machine, lerp(p0, p1, min_step), slerp(t0, t1, omega, min_step), &start);
+    // C as the axis leaves: its azimuth, constant along a great circle from the pole, read where
+    // the tilt is well clear of the singular limit (so that C is defined there).
+    const double leave = std::clamp(kLeavePoleTilts * kSingularTiltRad / omega, min_step, 1.0);
+    auto depart = inverse(machine, lerp(p0, p1, leave), slerp(t0, t1, omega, leave), &start);
     if (!depart) return depart.error();
     MachinePose hint = start;
     hint.c_deg = depart.value().c_deg;

@@ -68,17 +68,19 @@ double unsupported_area(const std::vector<geom2d::Polygon>& below, double t, con
   return total;
 }
 
-// The regions built before a region, sectioned along its direction (contexts made on first use).
+// The regions built before a region, sectioned along its direction (contexts made on first use, for
+// one region at a time).
 class BuiltBefore {
  public:
   BuiltBefore(const std::vector<PlanRegion>& regions) : regions_(regions) {}
 
   // The material of the regions before REGION_INDEX (build order) on the plane of FRAME, in its (u, v).
   std::vector<geom2d::Polygon> section(std::size_t region_index, const slicing::Frame& frame) {
+    if (region_index != region_) contexts_.clear(), region_ = region_index;  // layers come region by region
     std::vector<geom2d::Ring> rings;
     const double h = core::dot(frame.origin, frame.d);
     for (std::size_t q = 0; q < region_index; ++q) {
-      auto& ctx = contexts_[{region_index, q}];
+      auto& ctx = contexts_[q];
       if (!ctx) ctx = std::make_unique<slicing::SectionContext>(regions_[q].mesh, frame.d);
       if (h < ctx->min_height() || h > ctx->max_height()) continue;
       candidates_.clear();
@@ -93,7 +95,8 @@ class BuiltBefore {
 
  private:
   const std::vector<PlanRegion>& regions_;
-  std::map<std::pair<std::size_t, std::size_t>, std::unique_ptr<slicing::SectionContext>> contexts_;
+  std::size_t region_ = SIZE_MAX;  // the region the contexts are for (its direction)
+  std::map<std::size_t, std::unique_ptr<slicing::SectionContext>> contexts_;  // by earlier region
   std::vector<std::uint32_t> candidates_;
   slicing::SectionScratch scratch_;
 };

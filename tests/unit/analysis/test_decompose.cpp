@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "analysis/build_order.h"
 #include "decompose_checks.h"
 #include "polyaxis/analysis/decompose.h"
 #include "polyaxis/io/read_part.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/mesh/topology.h"
+#include "support/meshes.h"
 
 namespace polyaxis::analysis {
 namespace {
@@ -291,3 +293,44 @@ TEST(DecomposeRootBase, UnknownFaceOrZeroNormalIsAUsageError) {
 
 }  // namespace
 }  // namespace polyaxis::analysis
+
+namespace polyaxis::analysis {
+namespace {
+
+// Two regions whose bases each lie on the other (a cycle, which decompose does not make): the
+// build order breaks it at the lower one and keeps its promise for what rests_on lists.
+TEST(BuildOrder, ACycleIsBrokenAndRestsOnStillHolds) {
+  auto region = [](std::uint32_t id, std::optional<std::uint32_t> parent, io::RawMesh box, Vec3 base_point, Vec3 base_normal) {
+    Region r;
+    r.id = id;
+    r.parent = parent;
+    r.mesh = test::repaired(std::move(box)).mesh;
+    r.base_point = base_point;
+    r.base_normal = base_normal;
+    return r;
+  };
+  std::vector<Region> regions;
+  regions.push_back(region(0, std::nullopt, polyaxis::test::box({100, 0, 0}, {110, 10, 10}), {100, 0, 0}, {0, 0, 1}));
+  // A stands on B's top (base z = 10, built up); B hangs from A's underside (base z = 10, built down).
+  regions.push_back(region(1, 0, polyaxis::test::box({10, 0, 10}, {30, 10, 20}), {0, 0, 10}, {0, 0, 1}));
+  regions.push_back(region(2, 0, polyaxis::test::box({0, 0, 0}, {20, 10, 10}), {0, 0, 10}, {0, 0, -1}));
+  detail::order_by_support(regions);
+  ASSERT_EQ(regions.size(), 3u);
+  std::size_t listed_other = 0;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    EXPECT_EQ(regions[i].id, i);
+    for (std::uint32_t below : regions[i].rests_on) EXPECT_LT(below, i);
+    if (i > 0) {
+      ASSERT_TRUE(regions[i].parent.has_value());
+      EXPECT_NE(std::find(regions[i].rests_on.begin(), regions[i].rests_on.end(), *regions[i].parent), regions[i].rests_on.end());
+      listed_other += regions[i].rests_on.size() - 1;
+    }
+  }
+  EXPECT_EQ(regions[0].id, 0u);
+  EXPECT_TRUE(regions[0].rests_on.empty());
+  EXPECT_EQ(listed_other, 1u);  // the later one rests on the earlier; the earlier's wait was dropped
+}
+
+}  // namespace
+}  // namespace polyaxis::analysis
+

@@ -94,6 +94,19 @@ TEST(Subdivide, AxisSwingingPastThePoleFollowsOneBranch) {
   }
 }
 
+TEST(Subdivide, LeavingTheVerticalAxisByASmallTiltTurnsCFirst) {
+  // From the vertical axis (C held at 0) a torch tilting a little towards +Y: where that needs
+  // another C (B/C), C turns in place before the tilt, however small the tilt; check() holds the
+  // tip on the segment and C's steps within 5°. (Regression: below 3.75° C was not turned first,
+  // and the move failed 9 mm off.)
+  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC}) {
+    const MachineConfig m = machine(kind);
+    for (const double tilt : {0.01, 0.5, 2.0, 3.5}) {
+      EXPECT_GE(check(m, {30.0, 10.0, 12.0}, {0, 0, 1}, {31.0, 10.0, 12.0}, tilted(tilt, 90.0), 0.008), 1u) << tilt;
+    }
+  }
+}
+
 TEST(Subdivide, PureTranslationIsOneBlock) {
   const MachineConfig m = machine(Kinematics::kTableTiltB_RotaryC);
   EXPECT_EQ(check(m, {0.0, 0.0, 0.0}, tilted(20.0, 10.0), {50.0, 20.0, 5.0}, tilted(20.0, 10.0), 0.001), 1u);

@@ -1,6 +1,7 @@
 // The plan's support check: a layer rests on the layer below it and on the regions built before.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "polyaxis/mesh/repair.h"
@@ -76,6 +77,22 @@ TEST(SupportCheck, ARegionBuiltBeforeWhatHoldsItHangs) {
   const Plan plan = plan_of(s.whole, {region(0, s.upper, s.leaning, std::nullopt), region(1, s.lower, {0, 0, 1}, 0)});
   EXPECT_GT(plan.unsupported_area_mm2, 100.0);
   EXPECT_FALSE(plan.placed_regions[0].support_free);
+}
+
+TEST(SupportCheck, ARegionsFirstLayerOverNothingHangs) {
+  // A second region beside the first, 10 mm above the table: its first layer rests on nothing
+  // built (before, a region's first layer was taken to rest on its parent unchecked).
+  const mesh::RepairedMesh lower = repaired(polyaxis::test::box({0, 0, 0}, {20, 20, 10}));
+  const mesh::RepairedMesh beside = repaired(polyaxis::test::box({30, 0, 10}, {40, 20, 20}));
+  const mesh::RepairedMesh whole = repaired(polyaxis::test::join(polyaxis::test::box({0, 0, 0}, {20, 20, 10}),
+                                                                 polyaxis::test::box({30, 0, 10}, {40, 20, 20})));
+  const Plan plan = plan_of(whole, {region(0, lower, {0, 0, 1}, std::nullopt), region(1, beside, {0, 0, 1}, 0)});
+  const auto first = std::find_if(plan.layer_reports.begin(), plan.layer_reports.end(), [](const LayerReport& r) { return r.region == 1; });
+  ASSERT_NE(first, plan.layer_reports.end());
+  EXPECT_NEAR(first->unsupported_area_mm2, first->area_mm2, 1e-6);
+  EXPECT_NEAR(first->area_mm2, 200.0, 1e-6);
+  EXPECT_FALSE(plan.placed_regions[1].support_free);
+  EXPECT_TRUE(plan.placed_regions[0].support_free);
 }
 
 }  // namespace
