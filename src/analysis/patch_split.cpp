@@ -20,7 +20,7 @@ constexpr double kPatchStepFactors[] = {0.5, 2.0};
 // Facet visits allowed for screening one patch's candidates (each visits the host's facets once).
 constexpr double kPatchScreenBudget = 2e7;
 constexpr std::size_t kMinPatchCandidates = 24;
-constexpr std::size_t kMaxPatchCandidates = 240;
+constexpr std::size_t kMaxPatchCandidates = 120;
 constexpr std::size_t kMaxTargets = 8;
 
 Vec3 fibonacci(int i, int n) {
