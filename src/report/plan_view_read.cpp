@@ -12,6 +12,19 @@ namespace {
 
 using Json = nlohmann::ordered_json;  // keeps report.json's key order
 
+// An id, index or count: a JSON integer from 0 to 2³² − 1. (nlohmann's get<std::uint32_t>() of a
+// negative or fractional number is undefined behaviour: fuzz_plan_json found -24.9995.)
+std::uint32_t get_u32(const Json& j) {
+  if (!j.is_number_unsigned() || j.get<std::uint64_t>() > UINT32_MAX) throw std::runtime_error("expected an integer from 0 to 4294967295");
+  return static_cast<std::uint32_t>(j.get<std::uint64_t>());
+}
+
+// A flag: a JSON integer, true when non-zero.
+bool get_flag(const Json& j) {
+  if (!j.is_number_integer()) throw std::runtime_error("expected an integer flag");
+  return j.get<std::int64_t>() != 0;
+}
+
 Vec3 get_vec(const Json& j) {
   if (!j.is_array() || j.size() != 3) throw std::runtime_error("expected [x, y, z]");
   const Vec3 v{j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
@@ -50,9 +63,9 @@ std::vector<machine::ProgramPoint> program_rows(const Json& rows) {
     p.tip_part_mm = {row[0].get<double>(), row[1].get<double>(), row[2].get<double>()};
     p.tool_axis_part = {row[3].get<double>(), row[4].get<double>(), row[5].get<double>()};
     p.feed_mm_s = row[6].get<double>();
-    p.process_on = row[7].get<int>() != 0;
-    p.layer = row[8].get<std::uint32_t>();
-    p.region = row[9].get<std::uint32_t>();
+    p.process_on = get_flag(row[7]);
+    p.layer = get_u32(row[8]);
+    p.region = get_u32(row[9]);
     if (!core::is_finite(p.tip_part_mm) || !core::is_finite(p.tool_axis_part) || !std::isfinite(p.feed_mm_s)) {
       throw std::runtime_error("a program row is not finite");
     }
@@ -91,8 +104,8 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
     view.metrics_json = doc.at("report").dump(2);
     for (const Json& r : doc.at("regions")) {
       planner::PlanRegion region;
-      region.id = r.at("id").get<std::uint32_t>();
-      if (!r.at("parent").is_null()) region.parent = r.at("parent").get<std::uint32_t>();
+      region.id = get_u32(r.at("id"));
+      if (!r.at("parent").is_null()) region.parent = get_u32(r.at("parent"));
       region.direction = get_vec(r.at("build_direction"));
       region.base_point = get_vec(r.at("base_point"));
       region.support_free = r.at("support_free").get<bool>();
@@ -100,7 +113,7 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       const Json& tris = r.at("triangles");
       if (!tris.is_array() || tris.size() % 3 != 0) throw std::runtime_error("a triangle list is not a multiple of 3 indices");
       for (std::size_t i = 0; i < tris.size(); i += 3) {
-        const std::array<std::uint32_t, 3> t{tris[i].get<std::uint32_t>(), tris[i + 1].get<std::uint32_t>(), tris[i + 2].get<std::uint32_t>()};
+        const std::array<std::uint32_t, 3> t{get_u32(tris[i]), get_u32(tris[i + 1]), get_u32(tris[i + 2])};
         for (std::uint32_t c : t) {
           if (c >= region.mesh.vertices.size()) throw std::runtime_error(fmt::format("region {}: a vertex index is out of range", region.id));
         }
@@ -113,7 +126,7 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       for (const Json& n : doc.at("axis").at("nodes")) axis.nodes.push_back(get_vec(n));
       for (const Json& l : doc.at("axis").at("links")) {
         if (!l.is_array() || l.size() != 3) throw std::runtime_error("an axis link is not [from, to, break]");
-        const std::array<std::uint32_t, 3> link{l[0].get<std::uint32_t>(), l[1].get<std::uint32_t>(), l[2].get<std::uint32_t>()};
+        const std::array<std::uint32_t, 3> link{get_u32(l[0]), get_u32(l[1]), get_u32(l[2])};
         if (link[0] >= axis.nodes.size() || link[1] >= axis.nodes.size()) throw std::runtime_error("an axis link's node is out of range");
         axis.links.push_back(link);
       }
@@ -121,8 +134,8 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
     }
     for (const Json& l : doc.at("layers")) {
       ViewLayer layer;
-      layer.index = l.at("index").get<std::uint32_t>();
-      layer.region = l.at("region").get<std::uint32_t>();
+      layer.index = get_u32(l.at("index"));
+      layer.region = get_u32(l.at("region"));
       layer.origin = get_vec(l.at("origin"));
       layer.normal = get_vec(l.at("normal"));
       layer.u = get_vec(l.at("u"));
@@ -131,7 +144,7 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       layer.area_mm2 = l.at("area_mm2").get<double>();
       layer.unsupported_area_mm2 = l.at("unsupported_area_mm2").get<double>();
       layer.max_tilt_deg = l.at("max_tilt_deg").get<double>();
-      layer.paths = l.at("paths").get<std::uint32_t>();
+      layer.paths = get_u32(l.at("paths"));
       layer.tilt_deg = get_range(l.at("tilt_deg"));
       layer.c_deg = get_range(l.at("c_deg"));
       layer.contours = get_rings(l.at("contours"));

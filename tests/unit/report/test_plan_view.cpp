@@ -132,6 +132,10 @@ TEST(PlanView, MalformedPlansAreInvalidInputNamingTheFile) {
   for (const std::string& bad : {std::string("not json"), std::string("{}"), replaced("polyaxis-plan/1", "polyaxis-plan/9"),
                                  replaced("\"triangles\":[0,2,1", "\"triangles\":[0,2,99"), replaced("\"c_deg\":[", "\"c_deg\":[1,"),
                                  replaced(",1,1,1]", ",1,7,1]"), replaced("\"bead_width_mm\":0.9", "\"bead_width_mm\":\"x\""),
+                                 // Ids that are no unsigned integers (fuzz_plan_json: get<uint32_t> of -24.9995 was UB).
+                                 replaced("\"triangles\":[0,2,1", "\"triangles\":[0,-24.9995,1"),
+                                 replaced("\"triangles\":[0,2,1", "\"triangles\":[0,2.5,1"),
+                                 replaced("\"triangles\":[0,2,1", "\"triangles\":[0,4294967296,1"),
                                  good.substr(0, good.size() / 2)}) {
     auto r = read_plan_view(bad, "some/plan.json");
     ASSERT_FALSE(r.ok()) << bad.substr(0, 80);
