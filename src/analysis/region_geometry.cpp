@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "polyaxis/core/tolerances.h"
+#include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/mesh/topology.h"
 
@@ -83,16 +84,7 @@ double angle_deg(Vec3 a, Vec3 b) {
   return std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kPi;
 }
 
-double winding(const mesh::Mesh& m, Vec3 p) {
-  double omega = 0.0;
-  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-    const Vec3 a = m.corner(f, 0) - p, b = m.corner(f, 1) - p, c = m.corner(f, 2) - p;
-    const double la = core::norm(a), lb = core::norm(b), lc = core::norm(c);
-    omega += 2.0 * std::atan2(core::dot(a, core::cross(b, c)),
-                              la * lb * lc + core::dot(a, b) * lc + core::dot(a, c) * lb + core::dot(b, c) * la);
-  }
-  return omega / (4.0 * kPi);
-}
+double winding(const mesh::Mesh& m, Vec3 p) { return mesh::winding_number(m, p); }
 
 double distance_to_solid(const mesh::Mesh& m, Vec3 p) {
   if (m.triangles.empty()) return INFINITY;

@@ -5,6 +5,7 @@
 // crashed the next cut, and rounded caps of one cut no longer lie on one plane.
 #include "polyaxis/mesh/plane_cut.h"
 
+#include "polyaxis/core/tolerances.h"
 #include "polyaxis/mesh/properties.h"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
@@ -80,18 +81,6 @@ core::Status keep_negative(SurfaceMesh& sm, Vec3 point, Vec3 normal) {
   return {};
 }
 
-// Whether the closed outward mesh M encloses P (generalised winding number above one half; van
-// Oosterom and Strackee's solid angle of each facet). O(F).
-bool encloses(const Mesh& m, Vec3 p) {
-  double sum = 0.0;
-  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-    const Vec3 a = m.corner(f, 0) - p, b = m.corner(f, 1) - p, c = m.corner(f, 2) - p;
-    const double la = core::norm(a), lb = core::norm(b), lc = core::norm(c);
-    sum += 2.0 * std::atan2(core::dot(a, core::cross(b, c)),
-                            la * lb * lc + core::dot(a, b) * lc + core::dot(b, c) * la + core::dot(c, a) * lb);
-  }
-  return sum > 2.0 * 3.14159265358979323846;  // 4π · ½
-}
 
 core::Result<SurfaceMesh> united(std::vector<SurfaceMesh> pieces) {
   if (pieces.empty()) return SurfaceMesh{};
@@ -161,7 +150,7 @@ core::Result<CutOff> cut_off(const Mesh& mesh, Vec3 point, Vec3 normal, const Pi
   Mesh parent = to_mesh(joined.value());
   CutOff out{std::move(rounded[child]), std::move(parent)};
   for (std::size_t i : cavities) {
-    Mesh& host = encloses(out.child, rounded[i].vertices.front()) ? out.child : out.parent;
+    Mesh& host = winding_number(out.child, rounded[i].vertices.front()) > core::kInsideWindingNumber ? out.child : out.parent;
     const auto base = static_cast<std::uint32_t>(host.vertices.size());
     host.vertices.insert(host.vertices.end(), rounded[i].vertices.begin(), rounded[i].vertices.end());
     for (const Triangle& t : rounded[i].triangles) host.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});

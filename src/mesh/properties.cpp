@@ -10,6 +10,19 @@ core::Box3 bounding_box(const Mesh& mesh) {
   return box;
 }
 
+double solid_angle(Vec3 a, Vec3 b, Vec3 c) {
+  const double la = core::norm(a), lb = core::norm(b), lc = core::norm(c);
+  const double num = core::dot(a, core::cross(b, c));
+  const double den = la * lb * lc + core::dot(a, b) * lc + core::dot(a, c) * lb + core::dot(b, c) * la;
+  return 2.0 * std::atan2(num, den);
+}
+
+double winding_number(const Mesh& mesh, Vec3 p) {
+  double omega = 0.0;
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) omega += solid_angle(mesh.corner(f, 0) - p, mesh.corner(f, 1) - p, mesh.corner(f, 2) - p);
+  return omega / (4.0 * 3.14159265358979323846);
+}
+
 double signed_volume(const Mesh& mesh) {
   const core::Box3 box = bounding_box(mesh);
   const Vec3 o = box.empty() ? Vec3{} : (box.min + box.max) * 0.5;

@@ -34,14 +34,6 @@ std::uint32_t corner_of(const Mesh& mesh, std::uint32_t face, std::uint32_t vert
   return 3 * face + (t[0] == vertex ? 0u : (t[1] == vertex ? 1u : 2u));
 }
 
-// Solid angle of triangle (a, b, c) seen from the origin, steradians, signed.
-double solid_angle(Vec3 a, Vec3 b, Vec3 c) {
-  const double la = norm(a), lb = norm(b), lc = norm(c);
-  const double num = dot(a, cross(b, c));
-  const double den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
-  return 2.0 * std::atan2(num, den);
-}
-
 constexpr double kFourPi = 4.0 * 3.14159265358979323846;
 constexpr std::size_t kMaxShellsForNesting = 2000;  // nesting is pairwise: bound the cost
 constexpr std::size_t kNestingProbes = 8;          // corners tested per shell, besides one face centroid

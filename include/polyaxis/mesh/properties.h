@@ -12,6 +12,14 @@ double signed_volume(const Mesh& mesh);
 double surface_area(const Mesh& mesh);  // mm²
 core::Box3 bounding_box(const Mesh& mesh);
 
+// Signed solid angle of the triangle (A, B, C) seen from the origin, steradians (Van Oosterom and
+// Strackee); positive when the triangle turns counter-clockwise seen from the origin.
+double solid_angle(core::Vec3 a, core::Vec3 b, core::Vec3 c);
+
+// Generalised winding number of MESH at P: the facets' solid angles over 4π; about 1 inside a
+// closed outward mesh, 0 outside (compare with core::kInsideWindingNumber). O(F).
+double winding_number(const Mesh& mesh, core::Vec3 p);
+
 // Facets whose unit normal n has n·d < −sin(α_max) for build direction D (unit) and
 // self-supporting angle α_max from vertical (SPEC §2.2), excluding facets that lie on the build
 // plate (every corner within kPlateContactMm of the lowest point along D). Returns their area, mm².

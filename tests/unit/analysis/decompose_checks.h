@@ -17,6 +17,7 @@
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/mesh/topology.h"
+#include "support/repaired.h"
 
 namespace polyaxis::analysis::test {
 
@@ -30,13 +31,7 @@ inline double angle_between_deg(Vec3 a, Vec3 b) {
 }
 
 // Repair as `polyaxis analyze` does (no self-intersection pass).
-inline mesh::RepairedMesh repaired(io::RawMesh raw) {
-  mesh::RepairOptions o;
-  o.check_self_intersections = false;
-  auto r = mesh::repair(std::move(raw), o);
-  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-  return std::move(r.value());
-}
+using polyaxis::test::repaired;
 
 inline mesh::RepairedMesh reference_part(const std::string& name) {
   auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/" + name + ".stl");

@@ -13,19 +13,14 @@
 #include "polyaxis/io/read_part.h"
 #include "polyaxis/mesh/repair.h"
 #include "support/meshes.h"
+#include "support/repaired.h"
 
 namespace polyaxis::analysis {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-mesh::RepairedMesh repaired(io::RawMesh raw) {
-  mesh::RepairOptions o;
-  o.check_self_intersections = false;
-  auto r = mesh::repair(std::move(raw), o);
-  EXPECT_TRUE(r.ok());
-  return std::move(r.value());
-}
+using polyaxis::test::repaired;
 
 mesh::RepairedMesh part(const std::string& name) {
   auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/" + name + ".stl");

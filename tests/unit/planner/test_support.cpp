@@ -9,19 +9,14 @@
 #include "polyaxis/motion/process.h"
 #include "polyaxis/planner/plan.h"
 #include "support/meshes.h"
+#include "support/repaired.h"
 
 namespace polyaxis::planner {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-mesh::RepairedMesh repaired(io::RawMesh raw) {
-  mesh::RepairOptions o;
-  o.check_self_intersections = false;
-  auto r = mesh::repair(std::move(raw), o);
-  EXPECT_TRUE(r.ok());
-  return std::move(r.value());
-}
+using polyaxis::test::repaired;
 
 PlanRegion region(std::uint32_t id, const mesh::RepairedMesh& m, Vec3 direction, std::optional<std::uint32_t> parent) {
   PlanRegion r;
