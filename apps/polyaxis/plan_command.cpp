@@ -19,7 +19,7 @@
 #include "polyaxis/io/write_file.h"
 #include "polyaxis/machine/gcode.h"
 #include "polyaxis/machine/simulate.h"
-#include "polyaxis/planner/plan.h"
+#include "polyaxis/planner/plan_part.h"
 #include "polyaxis/report/layers.h"
 #include "polyaxis/report/plan_files.h"
 #include "polyaxis/report/plan_view.h"
@@ -35,12 +35,13 @@ struct PlanCommandOptions {
   std::string out_dir = "plan";
   bool no_tilt = false;
   bool decompose = false;
+  std::string strategy = "auto";
+  planner::PlanPartOptions part_plan;
   std::string root_base;
   bool json = false;
   bool svg = false;
   bool html = true;
   double chordal_mm = 0.01;
-  planner::PlanOptions plan;
 };
 
 core::Status parse_direction(const std::string& text, core::Vec3& out) {
@@ -63,8 +64,24 @@ core::Status parse_direction(const std::string& text, core::Vec3& out) {
 }
 
 int run_plan(PlanCommandOptions& o) {
-  if (auto s = parse_direction(o.dir, o.plan.direction); !s) return report_error(s.error());
-  o.plan.tilt_on_overhang = !o.no_tilt;
+  planner::PlanPartOptions& opt = o.part_plan;
+  if (auto s = parse_direction(o.dir, opt.direction); !s) return report_error(s.error());
+  opt.plan.tilt_on_overhang = !o.no_tilt;
+  opt.gcode.chordal_mm = o.chordal_mm;
+  if (o.decompose) {
+    if (o.strategy != "auto" && o.strategy != "decompose") {
+      return report_error(core::make_error(core::ErrorCode::kUsage, "--decompose is --strategy decompose; it contradicts --strategy " + o.strategy));
+    }
+    o.strategy = "decompose";
+  }
+  opt.strategy = o.strategy == "single" ? planner::Strategy::kSingle
+                 : o.strategy == "decompose" ? planner::Strategy::kDecompose : planner::Strategy::kAuto;
+  if (!o.root_base.empty() && opt.strategy == planner::Strategy::kSingle) {
+    return report_error(core::make_error(core::ErrorCode::kUsage, "--root-base places the root region: it needs --strategy decompose or auto"));
+  }
+  auto root_base = parse_root_base(o.root_base);
+  if (!root_base) return report_error(root_base.error());
+  opt.root_base = root_base.value();
   auto configs = load_configs(o.configs);
   if (!configs) return report_error(configs.error());
   const motion::MachineConfig& machine = configs.value().machine;
@@ -74,77 +91,24 @@ int run_plan(PlanCommandOptions& o) {
   std::size_t warnings = 0;
   for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
 
-  if (!o.root_base.empty() && !o.decompose) {
-    return report_error(core::make_error(core::ErrorCode::kUsage, "--root-base places the root region: it needs --decompose"));
-  }
-  std::vector<planner::PlanRegion> regions;
-  std::optional<analysis::CentroidalAxis> axis_shown;
-  if (o.decompose) {
-    const mesh::RepairedMesh& part = loaded.value().repaired;
-    auto root_base = parse_root_base(o.root_base);
-    if (!root_base) return report_error(root_base.error());
-    auto root_dir = analysis::root_direction(part.mesh, root_base.value(), o.plan.direction);
-    if (!root_dir) return report_error(root_dir.error());
-    analysis::CentroidalAxisOptions axis_options;
-    axis_options.start_direction = nearest_major_direction(root_dir.value());
-    auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
-    if (!axis) return report_error(axis.error());
-    analysis::DecomposeOptions dopt;
-    dopt.root_direction = root_dir.value();
-    dopt.root_base = root_base.value();
-    dopt.self_supporting_deg = process.self_supporting_deg;
-    auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
-    if (!tree) return report_error(tree.error());
-    axis_shown = axis.value();
-    for (const analysis::Region& r : tree.value().regions) {  // parents come before children
-      planner::PlanRegion pr;
-      pr.id = r.id;
-      pr.mesh = r.mesh;
-      pr.direction = r.build_direction;
-      pr.parent = r.parent;
-      pr.base_point = r.base_point;
-      pr.support_free = r.support_free;
-      regions.push_back(std::move(pr));
-      if (!r.support_free) {
-        std::fprintf(stderr, "polyaxis: warning: region %u is not support-free along its direction (%.1f mm2 overhang)\n", r.id,
-                     r.unsupported_area_mm2);
-        ++warnings;
-      }
-    }
-  }
-  auto planned = planner::make_plan(loaded.value().repaired, machine, process, o.plan, regions);
-  if (!planned) return report_error(planned.error());
-  const planner::Plan& plan = planned.value();
-  if (plan.thin_regions > 0) {
-    std::fprintf(stderr, "polyaxis: warning: %llu regions thinner than a bead (%.1f mm2) get no path; see plan.json\n",
-                 static_cast<unsigned long long>(plan.thin_regions), plan.thin_area_mm2);
-    ++warnings;
-  }
-  using Clock = std::chrono::steady_clock;
-  auto t0 = Clock::now();
-  machine::GcodeOptions gopt;
-  gopt.chordal_mm = o.chordal_mm;
-  auto gcode = machine::write_gcode(machine, process, plan.program, gopt);
-  if (!gcode) return report_error(gcode.error());
-  const double gcode_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  t0 = Clock::now();
-  // The program is checked by reading it back before anything is written.
-  auto sim = machine::simulate(machine, gcode.value(), plan.program, &process);
-  if (!sim) return report_error(sim.error());
-  const double simulate_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (sim.value().limit_violations > 0) {
-    return report_error(core::make_error(core::ErrorCode::kMachineLimit,
-                                         fmt::format("the program breaks a machine limit: {}", sim.value().violations.empty() ? "" : sim.value().violations.front())));
-  }
+  auto result = planner::plan_part(loaded.value().repaired, machine, process, opt);
+  if (!result) return report_error(result.error());
+  const planner::PlanPartResult& job = result.value();
+  const planner::Plan& plan = job.plan;
+  std::fprintf(stderr, "polyaxis: strategy %s: %s\n", planner::strategy_name(job.strategy_used), job.choice.c_str());
+  for (const std::string& w : job.warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
+  const std::optional<analysis::CentroidalAxis>& axis_shown = job.axis;
 
   std::error_code ec;
   std::filesystem::create_directories(o.out_dir, ec);
   if (ec) return report_error(core::make_error(core::ErrorCode::kOutput, fmt::format("{}: cannot create: {}", o.out_dir, ec.message())));
   const std::string stem = std::filesystem::path(o.part.path).stem().string();
-  const report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc", loaded.value().read_s, loaded.value().repair_s,
-                              gcode_s, simulate_s};
-  if (auto s = machine::save_gcode(o.out_dir + "/" + stem + ".ngc", gcode.value()); !s) return report_error(s.error());
-  const std::string report_text = report::report_json(plan, sim.value(), meta);
+  report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc", loaded.value().read_s, loaded.value().repair_s,
+                        job.gcode_s, job.simulate_s, job.verify_s, "", ""};
+  meta.strategy = planner::strategy_name(job.strategy_used);
+  meta.choice = job.choice;
+  if (auto s = machine::save_gcode(o.out_dir + "/" + stem + ".ngc", job.gcode); !s) return report_error(s.error());
+  const std::string report_text = report::report_json(plan, job.simulation, meta, &job.check);
   const std::size_t files = 2 + (o.html ? 1 : 0) + (o.svg ? plan.layers.layers.size() : 0);
   core::Progress progress("writing", files);
   std::size_t written = 0;
@@ -174,7 +138,7 @@ int run_plan(PlanCommandOptions& o) {
     std::fputs(report_text.c_str(), stdout);
   } else {
     std::printf("%zu layers, %.0f mm of deposit, build %.0f s, max tilt %.1f deg, %s (unsupported %.1f mm2) -> %s/%s.ngc\n",
-                plan.layers.layers.size(), plan.deposit_length_mm, sim.value().feed_time_s, plan.max_tilt_deg,
+                plan.layers.layers.size(), plan.deposit_length_mm, job.simulation.feed_time_s, plan.max_tilt_deg,
                 plan.unsupported_area_mm2 == 0.0 ? "support-free" : "NOT support-free", plan.unsupported_area_mm2, o.out_dir.c_str(),
                 stem.c_str());
     if (o.html) std::printf("open %s/report.html in a browser to check the plan\n", o.out_dir.c_str());
@@ -193,14 +157,17 @@ Runner add_plan_command(CLI::App& app) {
   cmd->add_option("--dir", o->dir, "Build direction X,Y,Z in the part's frame")->capture_default_str();
   cmd->add_option("-o,--out", o->out_dir, "Output directory")->capture_default_str();
   cmd->add_flag("--no-tilt", o->no_tilt, "Keep the torch along the build direction (planar 3-axis deposition)");
-  cmd->add_flag("--decompose", o->decompose,
-                "Split the part into regions at the centroidal axis's break links (polyaxis analyze) and build each along its own "
-                "direction, parents first");
+  cmd->add_option("--strategy", o->strategy,
+                  "single: one build direction (--dir); decompose: split the part into regions at the centroidal axis's break links "
+                  "(polyaxis analyze), each built along its own direction; auto: one direction, and the decomposition when that is not "
+                  "support-free, keeping the better")
+      ->capture_default_str()->check(CLI::IsMember({"single", "decompose", "auto"}));
+  cmd->add_flag("--decompose", o->decompose, "Same as --strategy decompose");
   add_root_base_option(*cmd, o->root_base);
-  cmd->add_option("--perimeters", o->plan.perimeters, "Perimeters per island")->capture_default_str()->check(CLI::Range(0, 100));
+  cmd->add_option("--perimeters", o->part_plan.plan.perimeters, "Perimeters per island")->capture_default_str()->check(CLI::Range(0, 100));
   cmd->add_option("--path-tolerance-mm", o->chordal_mm, "Largest tool-tip deviation from the path between G-code blocks, mm")
       ->capture_default_str()->check(CLI::Range(1e-4, 1.0));
-  cmd->add_option("--threads", o->plan.threads, "Worker threads (0: all cores)");
+  cmd->add_option("--threads", o->part_plan.plan.threads, "Worker threads (0: all cores)");
   cmd->add_flag("--json", o->json, "Print report.json instead of one line");
   cmd->add_flag("--svg", o->svg, "Also write one SVG per layer (contours, paths, seams): DIR/layer_NNNNN.svg");
   cmd->add_flag("!--no-html", o->html, "Do not write report.html");

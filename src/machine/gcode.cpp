@@ -18,6 +18,10 @@ namespace {
 
 // Share of the chordal tolerance given to subdivision; the rest absorbs the rounding of the words.
 constexpr double kSubdivisionShare = 0.8;
+// A deposit block slower than this share of the deposit feed is split into a turn in place with
+// the process off and a bead at the new axis; above machine::kStallShare (0.5), so that the words'
+// rounding cannot bring a block the writer kept under the verifier's limit.
+constexpr double kStallGuardShare = 0.6;
 
 using core::ErrorCode;
 using core::make_error;
@@ -163,6 +167,24 @@ class Writer {
   std::string last_feed_;
 };
 
+// True when a block of POSES (from PREV) would leave the tip below kStallGuardShare of FEED_MM_S
+// because a rotary or linear axis limit sets its duration.
+bool stalls(const motion::MachineConfig& m, const MachinePose& prev, const std::vector<MachinePose>& poses, double feed_mm_s) {
+  MachinePose a = prev;
+  Vec3 tip_a = motion::forward(m, a).tip_part_mm;
+  for (const MachinePose& b : poses) {
+    const Vec3 tip_b = motion::forward(m, b).tip_part_mm;
+    const double l_part = norm(tip_b - tip_a);
+    const double l_xyz = norm(Vec3{b.x_mm - a.x_mm, b.y_mm - a.y_mm, b.z_mm - a.z_mm});
+    const double rot = std::max(std::abs(b.a_or_b_deg - a.a_or_b_deg), std::abs(b.c_deg - a.c_deg));
+    const double t_s = std::max({l_part / feed_mm_s, l_xyz / (m.feed.linear_max_mm_min / 60.0), rot / (m.feed.rotary_max_deg_min / 60.0)});
+    if (t_s > 0.0 && l_part / t_s < kStallGuardShare * feed_mm_s) return true;
+    a = b;
+    tip_a = tip_b;
+  }
+  return false;
+}
+
 std::string where_of(std::size_t i, const ProgramPoint& pt) {
   return fmt::format("move to point {} (layer {} region {}, tip ({:.4f}, {:.4f}, {:.4f}), axis ({:.4f}, {:.4f}, {:.4f}))", i,
                      pt.layer, pt.region, pt.tip_part_mm.x, pt.tip_part_mm.y, pt.tip_part_mm.z, pt.tool_axis_part.x,
@@ -181,6 +203,7 @@ core::Result<std::string> write_gcode(const motion::MachineConfig& machine, cons
   w.line("G21 G90 G94 G17");
 
   bool process_on = false;
+  std::uint64_t stall_splits = 0;
   MachinePose prev{};
   core::Progress progress("G-code", points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -202,6 +225,26 @@ core::Result<std::string> write_gcode(const motion::MachineConfig& machine, cons
       prev = pose.value();
       continue;
     }
+    const ProgramPoint& from = points[i - 1];
+    // The written words are rounded (0.1 µm, 0.0001°): keep that share of the tolerance in hand
+    // so the tip read back from the file stays within options.chordal_mm.
+    const double tol = options.chordal_mm * kSubdivisionShare;
+    auto poses = motion::subdivide(machine, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev, tol);
+    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, poses.error().message));
+    if (pt.process_on && stalls(machine, prev, poses.value(), pt.feed_mm_s)) {
+      // The rotary axes cannot keep up with the tip here: turn the tool in place with the process
+      // off, then lay the bead with the new axis (machine/verify.h, stall).
+      ++stall_splits;
+      auto turn = motion::subdivide(machine, from.tip_part_mm, from.tool_axis_part, from.tip_part_mm, pt.tool_axis_part, prev, tol);
+      if (!turn) return make_error(turn.error().code, fmt::format("{}: {}", where, turn.error().message));
+      if (process_on) w.line(process.process_off), process_on = false;
+      for (const MachinePose& pose : turn.value()) {
+        if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
+      }
+      prev = turn.value().back();
+      poses = motion::subdivide(machine, from.tip_part_mm, pt.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev, tol);
+      if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, poses.error().message));
+    }
     if (pt.process_on && !process_on) {
       w.line(process.process_on);
       if (process.dwell_on_s > 0.0) w.line(fmt::format("G4 P{:.4f}", process.dwell_on_s));
@@ -210,12 +253,6 @@ core::Result<std::string> write_gcode(const motion::MachineConfig& machine, cons
       w.line(process.process_off);
       process_on = false;
     }
-    const ProgramPoint& from = points[i - 1];
-    // The written words are rounded (0.1 µm, 0.0001°): keep that share of the tolerance in hand
-    // so the tip read back from the file stays within options.chordal_mm.
-    auto poses = motion::subdivide(machine, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev,
-                                   options.chordal_mm * kSubdivisionShare);
-    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, poses.error().message));
     const bool rapid = options.rapid_travel && !pt.process_on;
     for (const MachinePose& pose : poses.value()) {
       if (auto st = w.move(pose, rapid, pt.feed_mm_s, where); !st) return st.error();
@@ -227,6 +264,10 @@ core::Result<std::string> write_gcode(const motion::MachineConfig& machine, cons
     }
   }
   if (process_on) w.line(process.process_off);
+  if (stall_splits > 0) {
+    w.line(fmt::format("(polyaxis: {} turns in place with the process off, where the rotary axes could not keep the deposit feed)",
+                       stall_splits));
+  }
   w.line("M2");
   if (w.over_cap()) {
     return make_error(ErrorCode::kOutput, fmt::format("the program exceeds the output cap of {} bytes", options.max_output_bytes));

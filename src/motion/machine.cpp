@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <vector>
 
 #include "motion/config_json.h"
@@ -35,7 +36,8 @@ constexpr std::string_view kDefaultMachine = R"({
     "conventional_directions": false
   },
   "feed": {"linear_max_mm_min": 6000, "rotary_max_deg_min": 3600},
-  "nozzle": {"tip_half_angle_deg": 30, "cone_height_mm": 20, "cylinder_radius_mm": 25}
+  "nozzle": {"tip_half_angle_deg": 30, "cone_height_mm": 20, "cylinder_radius_mm": 25, "cylinder_height_mm": 150},
+  "table": {"radius_mm": 250}
 }
 )";
 
@@ -48,6 +50,33 @@ AxisRange read_range(detail::ConfigReader& r, const json& limits, std::string_vi
   range.max = r.number(obj, path, "max", std::nullopt);
   if (!r.failed()) r.require_le(range.min, path + ".min", range.max, path + ".max");
   return range;
+}
+
+// "head_boxes": [{"min_mm": [x, y, z], "max_mm": [x, y, z]}, ...] in the tool frame.
+void read_head_boxes(detail::ConfigReader& r, const json& root, MachineConfig& m) {
+  if (!r.has(root, "head_boxes")) return;
+  const json& boxes = root.at("head_boxes");
+  if (!boxes.is_array()) return r.fail("'head_boxes' must be an array of {\"min_mm\": [x,y,z], \"max_mm\": [x,y,z]}");
+  for (std::size_t i = 0; i < boxes.size() && !r.failed(); ++i) {
+    const std::string path = fmt::format("head_boxes[{}]", i);
+    if (!r.check_object(boxes[i], path, {"min_mm", "max_mm"})) return;
+    HeadBox box;
+    for (const auto& [key, out] : {std::pair<const char*, double*>{"min_mm", box.min_mm}, {"max_mm", box.max_mm}}) {
+      const json* v = boxes[i].contains(key) ? &boxes[i].at(key) : nullptr;
+      if (v == nullptr || !v->is_array() || v->size() != 3) return r.fail(fmt::format("'{}.{}' must be an array of 3 numbers", path, key));
+      for (std::size_t k = 0; k < 3; ++k) {
+        if (!(*v)[k].is_number()) return r.fail(fmt::format("'{}.{}' must be an array of 3 numbers", path, key));
+        out[k] = (*v)[k].get<double>();
+        if (!std::isfinite(out[k]) || std::abs(out[k]) > detail::kMaxConfigMagnitude) {
+          return r.fail(fmt::format("'{}.{}[{}]' is not a finite number of sane size", path, key, k));
+        }
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (box.min_mm[k] > box.max_mm[k]) return r.fail(fmt::format("'{}.min_mm[{}]' exceeds '{}.max_mm[{}]'", path, k, path, k));
+    }
+    m.head_boxes.push_back(box);
+  }
 }
 
 }  // namespace
@@ -82,7 +111,7 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
   const json& root = doc.value();
   detail::ConfigReader r(source);
   MachineConfig m;
-  if (!r.check_object(root, "", {"name", "kinematics", "limits", "pivot", "feed", "nozzle"})) return r.error();
+  if (!r.check_object(root, "", {"name", "kinematics", "limits", "pivot", "feed", "nozzle", "head_boxes", "table"})) return r.error();
   m.name = r.string(root, "", "name", std::nullopt);
   const std::string kin = r.string(root, "", "kinematics", std::nullopt);
   if (r.failed()) return r.error();
@@ -178,17 +207,29 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
 
   if (r.has(root, "nozzle")) {
     const json& n = root.at("nozzle");
-    if (!r.check_object(n, "nozzle", {"tip_half_angle_deg", "cone_height_mm", "cylinder_radius_mm"})) return r.error();
+    if (!r.check_object(n, "nozzle", {"tip_half_angle_deg", "cone_height_mm", "cylinder_radius_mm", "cylinder_height_mm"})) {
+      return r.error();
+    }
     const NozzleModel defaults;
     m.nozzle.tip_half_angle_deg = r.number(n, "nozzle", "tip_half_angle_deg", defaults.tip_half_angle_deg);
     m.nozzle.cone_height_mm = r.number(n, "nozzle", "cone_height_mm", defaults.cone_height_mm);
     m.nozzle.cylinder_radius_mm = r.number(n, "nozzle", "cylinder_radius_mm", defaults.cylinder_radius_mm);
+    m.nozzle.cylinder_height_mm = r.number(n, "nozzle", "cylinder_height_mm", defaults.cylinder_height_mm);
   }
   if (!r.failed() && !(m.nozzle.tip_half_angle_deg > 0.0 && m.nozzle.tip_half_angle_deg < 90.0)) {
     r.fail("'nozzle.tip_half_angle_deg' must be between 0 and 90 degrees (exclusive)");
   }
   if (!r.failed() && m.nozzle.cone_height_mm <= 0.0) r.fail("'nozzle.cone_height_mm' must be > 0");
   if (!r.failed() && m.nozzle.cylinder_radius_mm <= 0.0) r.fail("'nozzle.cylinder_radius_mm' must be > 0");
+  if (!r.failed() && m.nozzle.cylinder_height_mm < 0.0) r.fail("'nozzle.cylinder_height_mm' must be >= 0");
+  if (r.failed()) return r.error();
+  read_head_boxes(r, root, m);
+  if (r.has(root, "table")) {
+    const json& t = root.at("table");
+    if (!r.check_object(t, "table", {"radius_mm"})) return r.error();
+    m.table.radius_mm = r.number(t, "table", "radius_mm", m.table.radius_mm);
+    if (!r.failed() && !(m.table.radius_mm > 0.0)) r.fail("'table.radius_mm' must be > 0");
+  }
   if (r.failed()) return r.error();
   return m;
 }

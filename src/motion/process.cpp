@@ -24,7 +24,11 @@ constexpr std::string_view kDefaultProcess = R"({
   "travel_feed_mm_s": 50,
   "process_on": "M64 P0",
   "process_off": "M65 P0",
-  "dwell_on_s": 0.5
+  "dwell_on_s": 0.5,
+  "max_step_bead_share": 0.5,
+  "adaptive_layers": true,
+  "cusp_mm": 0.3,
+  "substrate": {"thickness_mm": 10, "margin_mm": 10, "size_x_mm": 0, "size_y_mm": 0}
 }
 )";
 
@@ -46,7 +50,7 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   detail::ConfigReader r(source);
   if (!r.check_object(root, "", {"name", "bead_width_mm", "layer_mm", "layer_min_mm", "layer_max_mm",
                                  "self_supporting_deg", "deposit_feed_mm_s", "travel_feed_mm_s", "process_on",
-                                 "process_off", "dwell_on_s"})) {
+                                 "process_off", "dwell_on_s", "max_step_bead_share", "adaptive_layers", "cusp_mm", "substrate"})) {
     return r.error();
   }
   ProcessConfig p;
@@ -61,7 +65,27 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   p.process_on = r.string(root, "", "process_on", std::nullopt);
   p.process_off = r.string(root, "", "process_off", std::nullopt);
   p.dwell_on_s = r.number(root, "", "dwell_on_s", 0.0);
+  p.max_step_bead_share = r.number(root, "", "max_step_bead_share", p.max_step_bead_share);
+  p.adaptive_layers = r.boolean(root, "", "adaptive_layers", p.adaptive_layers);
+  p.cusp_mm = r.number(root, "", "cusp_mm", p.cusp_mm);
+  if (r.has(root, "substrate")) {
+    const json& s = root.at("substrate");
+    if (!r.check_object(s, "substrate", {"thickness_mm", "margin_mm", "size_x_mm", "size_y_mm"})) return r.error();
+    p.substrate.thickness_mm = r.number(s, "substrate", "thickness_mm", p.substrate.thickness_mm);
+    p.substrate.margin_mm = r.number(s, "substrate", "margin_mm", p.substrate.margin_mm);
+    p.substrate.size_x_mm = r.number(s, "substrate", "size_x_mm", 0.0);
+    p.substrate.size_y_mm = r.number(s, "substrate", "size_y_mm", 0.0);
+  }
   if (r.failed()) return r.error();
+  if (!(p.max_step_bead_share > 0.0 && p.max_step_bead_share <= 1.0)) {
+    r.fail(fmt::format("'max_step_bead_share' ({}) must be in (0, 1]: a bead must rest on the one below", p.max_step_bead_share));
+  }
+  if (!(p.cusp_mm > 0.0)) r.fail(fmt::format("'cusp_mm' ({}) must be > 0", p.cusp_mm));
+  if (p.substrate.thickness_mm < 0.0) r.fail("'substrate.thickness_mm' must be >= 0");
+  if (p.substrate.margin_mm < 0.0) r.fail("'substrate.margin_mm' must be >= 0");
+  if (p.substrate.size_x_mm < 0.0 || p.substrate.size_y_mm < 0.0 || ((p.substrate.size_x_mm > 0.0) != (p.substrate.size_y_mm > 0.0))) {
+    r.fail("'substrate.size_x_mm' and 'substrate.size_y_mm' must both be 0 (footprint + margin) or both > 0");
+  }
 
   if (p.bead_width_mm <= 0.0) r.fail(fmt::format("'bead_width_mm' ({}) must be > 0", p.bead_width_mm));
   const double nozzle_limit = kMaxLayerToBeadRatio * p.bead_width_mm;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "polyaxis/mesh/properties.h"
+#include "reach.h"
 #include "support.h"
 #include "transit.h"
 
@@ -18,9 +19,87 @@ constexpr double kPi = 3.14159265358979323846;
 // so the chords between transit points (transit.h) stay clear of the retract points' sphere.
 constexpr double kTransitMarginShare = 0.5;
 
+// The tilt of the torch may change at this share of the tilt axis's speed limit at the deposit feed.
+constexpr double kRotaryShare = 0.5;
+// A placed region reaching further than this share of the thinnest layer below the plate's top
+// goes into the plate; less is inside the first layer's own rounding of the base.
+constexpr double kBelowPlateLayerShare = 0.5;
+// A layer whose bottom is within this of the plate's top is laid on the plate.
+constexpr double kOnPlateMm = 1e-6;
+
 double angle_deg(Vec3 a, Vec3 b) {
   const double c = core::dot(core::normalized(a), core::normalized(b));
   return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
+}
+
+// After placement: every region above the plate, every direction within reach; the build model.
+core::Status place_checks(const std::vector<PlanRegion>& regions, const motion::MachineConfig& machine,
+                          const motion::ProcessConfig& process, Plan& plan) {
+  core::Box3 box;
+  for (const PlanRegion& r : regions) {
+    double low = INFINITY;
+    for (const Vec3& v : r.mesh.vertices) low = std::min(low, v.z), box.add(v);
+    if (low < -kBelowPlateLayerShare * process.layer_min_mm) {
+      return core::make_error(core::ErrorCode::kInfeasible,
+                              fmt::format("region {} (build direction {:.3f}, {:.3f}, {:.3f}) reaches {:.2f} mm below the substrate's top "
+                                          "when the first region stands on it: build from the part's lowest base (--root-base z-min) "
+                                          "or with --strategy single",
+                                          r.id, r.direction.x, r.direction.y, r.direction.z, -low));
+    }
+  }
+  plan.build_model = motion::make_build_model(machine, process, box.min.x, box.min.y, box.max.x, box.max.y);
+  return detail::check_region_reach(regions, machine, detail::reach_rad(machine));
+}
+
+// Keeps every tool axis of REGION's PATHS inside the machine's reach with the head clear of the
+// plate and the table; the layers laid on the plate get the torch along the layer's normal.
+core::Status guard_axes(Plan& plan, const motion::MachineConfig& machine, const PlanOptions& options, const PlanRegion& region, const slicing::SliceResult& layers,
+                        std::vector<toolpath::LayerToolpaths>& paths) {
+  const double reach = detail::reach_rad(machine);
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    const slicing::Layer& layer = layers.layers[k];
+    const bool on_plate = layer.frame.d.z > 1.0 - 1e-9 && std::abs(layer.height_mm - layer.below_mm) <= kOnPlateMm;
+    for (toolpath::Path& path : paths[k].paths) {
+      for (toolpath::PathPoint& p : path.points) {
+        Vec3 axis = on_plate ? layer.frame.d : p.tool_axis;
+        if (!detail::guard_axis(plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, layer.frame.d, axis)) {
+          return core::make_error(
+              core::ErrorCode::kMachineLimit,
+              fmt::format("region {} layer {}: at ({:.2f}, {:.2f}, {:.2f}) on the table no tool axis within {:.0f} deg of the build "
+                          "direction ({:.3f}, {:.3f}, {:.3f}) keeps the head {:.1f} mm clear of the plate and the table (nozzle "
+                          "cylinder r {:.1f} mm at {:.1f} mm): a slimmer head (nozzle.cylinder_radius_mm), a region built further from "
+                          "the plate or --strategy single would make it buildable",
+                          region.id, layer.index, p.position_mm.x, p.position_mm.y, p.position_mm.z, toolpath::kMaxTiltRad * 180.0 / kPi,
+                          region.direction.x, region.direction.y, region.direction.z, options.head_clearance_mm,
+                          machine.nozzle.cylinder_radius_mm, machine.nozzle.cone_height_mm));
+        }
+        if (core::norm(p.tool_axis - axis) > 1e-12) ++plan.axes_turned;
+        p.tool_axis = axis;
+      }
+    }
+  }
+  return {};
+}
+
+// The first bead of the plan must be laid on the plate: a first region whose lowest layers are all
+// thinner than a bead would start in mid-air.
+core::Status first_deposit_on_plate(const Plan& plan, const motion::ProcessConfig& process) {
+  for (const toolpath::LayerToolpaths& lt : plan.toolpaths) {
+    double low = INFINITY;
+    for (const toolpath::Path& path : lt.paths) {
+      for (const toolpath::PathPoint& p : path.points) {
+        if (p.deposit) low = std::min(low, p.position_mm.z);
+      }
+    }
+    if (low == INFINITY) continue;
+    if (low <= process.layer_max_mm) return {};
+    const std::uint32_t region = plan.region_of_layer[lt.layer];
+    return core::make_error(core::ErrorCode::kInfeasible,
+                            fmt::format("region {} would start {:.2f} mm above the substrate, in mid-air: its layers below are thinner "
+                                        "than a bead ({:.2f} mm); another root base (--root-base) or --strategy single would ground it",
+                                        region, low, process.bead_width_mm));
+  }
+  return {};
 }
 
 }  // namespace
@@ -50,14 +129,14 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     return core::make_error(core::ErrorCode::kUsage, "--dir: the build direction must be a finite non-zero vector");
   }
   const Vec3 d = core::normalized(given_regions.empty() ? options.direction : given_regions.front().direction);
-  // Placement: the build direction turned to the table's +Z, the base on the table (Z = 0), the
-  // footprint centred on the rotary axis.
+  // Placement: the build direction turned to the table's +Z, the first region's base on the
+  // plate's top (Z = 0), the footprint centred on the rotary axis.
   plan.placement = rotation_to_z(d);
   double lowest = INFINITY;
   core::Box3 box;
-  for (const Vec3& v : part.mesh.vertices) {
-    const Vec3 r = plan.placement.rotate(v);
-    lowest = std::min(lowest, r.z), box.add(r);
+  for (const Vec3& v : part.mesh.vertices) box.add(plan.placement.rotate(v));
+  for (const Vec3& v : given_regions.empty() ? part.mesh.vertices : given_regions.front().mesh.vertices) {
+    lowest = std::min(lowest, plan.placement.rotate(v).z);
   }
   plan.placement.translation_mm = {-(box.min.x + box.max.x) * 0.5, -(box.min.y + box.max.y) * 0.5, -lowest};
   std::vector<PlanRegion> regions = given_regions;
@@ -75,6 +154,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     r.base_point = plan.placement.apply(r.base_point);
     r.direction = plan.placement.rotate(core::normalized(r.direction));
   }
+  if (auto s = place_checks(regions, machine, process, plan); !s) return s.error();
   plan.regions = static_cast<std::uint32_t>(regions.size());
   plan.placed_regions = regions;
 
@@ -86,6 +166,16 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     slice.direction = region.direction;
     slice.layer_mm = process.layer_mm;
     slice.threads = options.threads;
+    slice.adaptive = process.adaptive_layers && process.layer_min_mm < process.layer_max_mm;
+    if (slice.adaptive) {
+      slice.min_mm = process.layer_min_mm;
+      slice.max_mm = process.layer_max_mm;
+      slice.limits.cusp_mm = process.cusp_mm;
+      slice.limits.overhang_deg = process.self_supporting_deg;
+      if (options.tilt_on_overhang && motion::has_rotary_axes(machine.kind)) {
+        slice.limits.overhang_step_mm = process.max_step_bead_share * process.bead_width_mm;
+      }
+    }
     // The whole part's topology is valid only for the unsplit part.
     auto layers = slicing::slice(region.mesh, slice, given_regions.empty() ? &part.topology : nullptr);
     if (!layers) return layers.error();
@@ -98,8 +188,12 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     tp.tilt_on_overhang = options.tilt_on_overhang && motion::has_rotary_axes(machine.kind);
     tp.threads = options.threads;
     tp.region = region.id;
+    // The tilt may change no faster than the tilt axis turns at kRotaryShare of its limit while the
+    // tip moves at the deposit feed.
+    tp.max_axis_turn_deg_per_mm = kRotaryShare * machine.feed.rotary_max_deg_min / 60.0 / process.deposit_feed_mm_s;
     auto paths = toolpath::make_toolpaths(region.mesh, layers.value(), tp);
     if (!paths) return paths.error();
+    if (auto s = guard_axes(plan, machine, options, region, layers.value(), paths.value()); !s) return s.error();
     plan.times.toolpath_s += since(t0);
     // Layers are numbered across regions, in build order.
     const auto offset = static_cast<std::uint32_t>(plan.layers.layers.size());
@@ -118,6 +212,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     }
   }
   if (plan.layers.layers.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: the part has no layers");
+  if (auto s = first_deposit_on_plate(plan, process); !s) return s.error();
   auto t0 = Clock::now();
 
   // Program: approach from above, the layer's paths in order, retract along the tool axis.
@@ -135,6 +230,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   }
   sphere_radius += options.retract_mm * (1.0 + kTransitMarginShare);
   std::optional<std::uint32_t> previous_region;
+  const double reach = detail::reach_rad(machine);
   auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
     machine::ProgramPoint p;
     p.tip_part_mm = tip;
@@ -165,8 +261,13 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
           // A new region, built along another direction: cross over the part (transit.h).
           const machine::ProgramPoint last = plan.program.back();
           bool first = true;
-          for (const TransitPoint& t :
-               transit(last.tip_part_mm, last.tool_axis_part, approach, p0.tool_axis, sphere_centre, sphere_radius)) {
+          for (TransitPoint t : transit(last.tip_part_mm, last.tool_axis_part, approach, p0.tool_axis, sphere_centre, sphere_radius)) {
+            // Below the part's middle the sphere's outward axis points the head at the plate:
+            // turned up until it clears, and lifted above the plate where no turn does.
+            if (!detail::guard_axis(plan.build_model, reach, options.head_clearance_mm, 0.0, t.tip, t.axis, t.axis)) {
+              t.axis = {0, 0, 1};
+              t.tip.z = std::max(t.tip.z, options.head_clearance_mm);
+            }
             push(t.tip, t.axis, false, lt.layer, first ? "transit" : "");
             first = false;
           }

@@ -29,7 +29,8 @@ double angle_deg(Vec3 a, Vec3 b) {
 // The unsupported area of LAYER over BELOW (polygons in the layer's (u, v) frame, T mm under it;
 // see PlanOptions' comment in plan.h); the unsupported pieces are appended to PIECES.
 double unsupported_area(const std::vector<geom2d::Polygon>& below, double t, const slicing::Layer& layer,
-                        const toolpath::LayerToolpaths& paths, double alpha_deg, double bead_mm, std::vector<geom2d::Polygon>& pieces) {
+                        const toolpath::LayerToolpaths& paths, double alpha_deg, double bead_mm, double max_step_mm,
+                        std::vector<geom2d::Polygon>& pieces) {
   const double base_grow = t * std::tan(alpha_deg * kPi / 180.0);
   const auto overhang = geom2d::difference_rings(geom2d::rings_of(layer.polygons), geom2d::rings_of(geom2d::offset(below, base_grow)));
   double total = 0.0;
@@ -59,7 +60,7 @@ double unsupported_area(const std::vector<geom2d::Polygon>& below, double t, con
     const int key = static_cast<int>(std::floor(std::min(alpha_deg + tilt, kMaxSupportAngleDeg) * 10.0));  // rounded down: conservative
     auto it = grown_by_angle.find(key);
     if (it == grown_by_angle.end()) {
-      it = grown_by_angle.emplace(key, geom2d::rings_of(geom2d::offset(below, t * std::tan(key / 10.0 * kPi / 180.0)))).first;
+      it = grown_by_angle.emplace(key, geom2d::rings_of(geom2d::offset(below, tilted_step_mm(t, key / 10.0, alpha_deg, max_step_mm)))).first;
     }
     std::vector<geom2d::Polygon> left = geom2d::difference_rings(geom2d::rings_of({piece}), it->second);
     total += geom2d::area_mm2(left);
@@ -103,6 +104,12 @@ class BuiltBefore {
 
 }  // namespace
 
+double tilted_step_mm(double t_mm, double tilted_deg, double alpha_deg, double max_step_mm) {
+  const double plain = t_mm * std::tan(alpha_deg * kPi / 180.0);
+  const double tilted = t_mm * std::tan(std::min(tilted_deg, kMaxSupportAngleDeg) * kPi / 180.0);
+  return std::max(plain, std::min(tilted, max_step_mm));
+}
+
 void check_support(Plan& plan, const motion::ProcessConfig& process) {
   const auto& ls = plan.layers.layers;
   plan.layer_reports.resize(ls.size());
@@ -133,11 +140,12 @@ void check_support(Plan& plan, const motion::ProcessConfig& process) {
     const bool on_table = layer_d.z > 1.0 - kUprightCos && ls[k].height_mm - ls[k].below_mm <= kOnTableMm;
     if (first && (region_index == 0 || on_table)) continue;
     const double alpha = process.self_supporting_deg, bead = process.bead_width_mm;
+    const double max_step = process.max_step_bead_share * bead;
     double t = r.thickness_mm;
     std::vector<geom2d::Polygon> below;
     if (!first) t = ls[k].height_mm - ls[k - 1].height_mm, below = ls[k - 1].polygons;
     std::vector<geom2d::Polygon> pieces;
-    double area = first ? r.area_mm2 : unsupported_area(below, t, ls[k], lt, alpha, bead, pieces);
+    double area = first ? r.area_mm2 : unsupported_area(below, t, ls[k], lt, alpha, bead, max_step, pieces);
     if (area >= kUnsupportedNoiseMm2 && region_index > 0) {
       // What the earlier regions hold one layer below this one.
       slicing::Frame under = ls[k].frame;
@@ -145,7 +153,7 @@ void check_support(Plan& plan, const motion::ProcessConfig& process) {
       std::vector<geom2d::Ring> rings = geom2d::rings_of(below);
       for (geom2d::Ring& ring : geom2d::rings_of(built.section(region_index, under))) rings.push_back(std::move(ring));
       pieces.clear();
-      area = unsupported_area(geom2d::union_rings(rings, geom2d::FillRule::kNonZero), t, ls[k], lt, alpha, bead, pieces);
+      area = unsupported_area(geom2d::union_rings(rings, geom2d::FillRule::kNonZero), t, ls[k], lt, alpha, bead, max_step, pieces);
     }
     if (area >= kUnsupportedNoiseMm2) r.unsupported_area_mm2 = area, r.unsupported = std::move(pieces);
     plan.unsupported_area_mm2 += r.unsupported_area_mm2;

@@ -13,7 +13,8 @@ using nlohmann::ordered_json;
 
 }  // namespace
 
-std::string report_json(const planner::Plan& plan, const machine::SimulationReport& sim, const PlanMeta& meta) {
+std::string report_json(const planner::Plan& plan, const machine::SimulationReport& sim, const PlanMeta& meta,
+                        const machine::BuildCheck* check) {
   ordered_json j;
   j["part"] = meta.part;
   j["machine"] = meta.machine;
@@ -21,9 +22,12 @@ std::string report_json(const planner::Plan& plan, const machine::SimulationRepo
   j["gcode"] = meta.gcode;
   j["layers"] = plan.layers.layers.size();
   j["regions"] = plan.regions;
-  j["path_length_mm"] = plan.deposit_length_mm + plan.travel_length_mm;
-  j["deposit_length_mm"] = plan.deposit_length_mm;
-  j["travel_length_mm"] = plan.travel_length_mm;
+  if (!meta.strategy.empty()) j["strategy"] = meta.strategy, j["strategy_reason"] = meta.choice;
+  // Lengths of the tip's path over the part in the program read back (sim): all of it, with the
+  // process on, and with it off (travel, approach, retract and transit moves).
+  j["path_length_mm"] = sim.path_length_mm;
+  j["deposit_length_mm"] = sim.deposit_length_mm;
+  j["travel_length_mm"] = sim.path_length_mm - sim.deposit_length_mm;
   // Build time: every G1 block at its programmed feed (deposition, travel and the rotary moves
   // of reorientations, which the controller times by the same F), from the simulation of the
   // written program.
@@ -39,9 +43,31 @@ std::string report_json(const planner::Plan& plan, const machine::SimulationRepo
   j["limit_violations"] = sim.limit_violations;
   j["max_tip_deviation_mm"] = sim.max_tip_deviation_mm;
   j["max_axis_deviation_deg"] = sim.max_axis_deviation_deg;
+  j["axes_turned"] = plan.axes_turned;
+  if (check != nullptr) {
+    // The program read back through forward kinematics against the build model (docs/plan.md).
+    j["build_check"] = {{"samples", check->samples},
+                        {"head_collisions", check->head_collisions},
+                        {"worst_head_depth_mm", check->worst_head_depth_mm},
+                        {"worst_head_line", check->worst_head_line},
+                        {"head_collisions_depositing", check->head_collisions_depositing},
+                        {"deposit_samples", check->deposit_samples},
+                        {"ungrounded_samples", check->ungrounded_samples},
+                        {"ground_mm", check->ground_mm},
+                        {"ground_lateral_mm", check->ground_lateral_mm},
+                        {"mid_air_regions", check->mid_air_regions},
+                        {"process_on_s", check->process_on_s},
+                        {"stalled_s", check->stalled_s},
+                        {"process_on_dwell_s", check->process_on_dwell_s},
+                        {"problems", check->first_problems}};
+  }
+  j["substrate"] = {{"x_mm", {plan.build_model.substrate.x_min_mm, plan.build_model.substrate.x_max_mm}},
+                    {"y_mm", {plan.build_model.substrate.y_min_mm, plan.build_model.substrate.y_max_mm}},
+                    {"top_z_mm", plan.build_model.substrate.top_z_mm},
+                    {"thickness_mm", plan.build_model.substrate.thickness_mm}};
   j["timings_s"] = {{"read", meta.read_s},           {"repair", meta.repair_s},         {"slice", plan.times.slice_s},
                     {"toolpath", plan.times.toolpath_s}, {"program", plan.times.program_s}, {"support", plan.times.support_s},
-                    {"gcode", meta.gcode_s},           {"simulate", meta.simulate_s}};
+                    {"gcode", meta.gcode_s},           {"simulate", meta.simulate_s}, {"verify", meta.verify_s}};
   j["axis_ranges"] = {{"x", {sim.x_mm.min, sim.x_mm.max}},
                       {"y", {sim.y_mm.min, sim.y_mm.max}},
                       {"z", {sim.z_mm.min, sim.z_mm.max}},

@@ -140,7 +140,8 @@ core::Result<SliceResult> slice_adaptive(const SectionContext& ctx, const SliceO
       if (ab == 0.0 ? at_area > 0.0 : std::fabs(at_area - ab) / ab > *o.limits.area_deviation) return false;
     }
     if (o.limits.overhang_deg) {
-      const auto grown = geom2d::offset(b.polygons, t * tan_a);
+      const double grow = std::max(t * tan_a, o.limits.overhang_step_mm.value_or(0.0));
+      const auto grown = geom2d::offset(b.polygons, grow);
       const auto beyond = geom2d::difference_rings(geom2d::rings_of(s.polygons), geom2d::rings_of(grown));
       if (geom2d::area_mm2(beyond) > kOverhangAreaMm2) return false;
     }

@@ -293,6 +293,10 @@ class LayerPlanner {
       const Vec3 tangent = layer_.frame.u * near.tu + layer_.frame.v * near.tv;
       out[i] = detail::torch_axis(normal, tangent, d, min_dot);
     }
+    std::vector<Vec3> at;
+    at.reserve(n);
+    for (const Point& p : c.points) at.push_back(world(p));
+    smooth_tool_axes(at, out, d, c.closed, o_.axis_window_mm, o_.max_axis_turn_deg_per_mm);
     return out;
   }
 

@@ -48,12 +48,13 @@ struct SimulationReport {
 // N words, M-codes, comments in parentheses and after ';') on MACHINE. Axis words are joint
 // positions; words absent from the first motion block are 0. With PROCESS, blocks equal to its
 // process_on / process_off switch the process (for deposit_length_mm). PLAN, when not empty, is
-// the program the G-code was written from; each sample is compared with the planned segments near
-// the previous match (a window of 64 segments ahead), so the cost stays linear.
+// the program the G-code was written from; each sample is compared with the planned segments in
+// order: the earliest segment at or after the last match (a window of 64 segments ahead) that
+// holds the sample within PATH_TOLERANCE_MM matches it, so the cost stays linear.
 // Errors: kInvalidInput naming the line for malformed or unsupported G-code (G2, G20, G91, a B word
 // on an A/C machine, a feed move without F). Limit violations are reported, not errors.
 core::Result<SimulationReport> simulate(const motion::MachineConfig& machine, std::string_view gcode,
                                         std::span<const ProgramPoint> plan_or_empty,
-                                        const motion::ProcessConfig* process = nullptr);
+                                        const motion::ProcessConfig* process = nullptr, double path_tolerance_mm = 0.01);
 
 }  // namespace polyaxis::machine

@@ -7,6 +7,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -50,11 +51,25 @@ struct FeedLimits {
   double rotary_max_deg_min = 3600.0;  // largest angular feed of any rotary axis
 };
 
-// Dwivedi Eq. 2: r(z) = z·tan(θ) for z ≤ z1, R above.
+// Dwivedi Eq. 2: r(z) = z·tan(θ) for z ≤ z1, R above (up to z1 + the cylinder's height).
 struct NozzleModel {
   double tip_half_angle_deg = 30.0;  // θ, cone half-angle at the tip
   double cone_height_mm = 20.0;      // z1
   double cylinder_radius_mm = 25.0;  // R
+  double cylinder_height_mm = 150.0; // length of the cylinder above the cone
+};
+
+// A box fixed to the head (a powder feeder, a camera, the wire feeder), in the tool frame: origin
+// at the nozzle tip, +Z up the nozzle, X and Y the machine's X and Y. mm.
+struct HeadBox {
+  double min_mm[3] = {0, 0, 0};
+  double max_mm[3] = {0, 0, 0};
+};
+
+// The machine table: a disc whose top is the plane the substrate plate is clamped to. On a
+// table-table machine it turns with the part, so in the part frame it is fixed.
+struct TableModel {
+  double radius_mm = 250.0;
 };
 
 struct MachineConfig {
@@ -67,6 +82,8 @@ struct MachineConfig {
   TrtPivot pivot;
   FeedLimits feed;
   NozzleModel nozzle;
+  std::vector<HeadBox> head_boxes;  // optional, "head_boxes" in the file
+  TableModel table;
 };
 
 // Parses a machine file (JSON; // and /* */ comments allowed). Every problem is ErrorCode::kUsage

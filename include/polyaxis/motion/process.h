@@ -21,6 +21,21 @@ struct ProcessConfig {
   std::string process_on = "M64 P0";  // G-code words that switch the process on (one block)
   std::string process_off = "M65 P0"; // and off
   double dwell_on_s = 0.5;            // wait after switching on before moving (G4 P…), 0 for none
+  // Under a tilted torch a layer may step sideways over the one below by at most this share of
+  // the bead width (planner/support.h), whatever the tilt; (0, 1].
+  double max_step_bead_share = 0.5;
+  // Adaptive layer thickness within [layer_min_mm, layer_max_mm] (cusp and VolDiff limits and the
+  // overhang step): on by default where the range is not a single value.
+  bool adaptive_layers = true;
+  double cusp_mm = 0.3;  // adaptive layers: largest staircase height t·|n·d| on the part's surface
+  // The substrate plate the part is built on (its top is the part's base, Z = 0 on the table):
+  // THICKNESS, and either an explicit size (both > 0) or the part's footprint grown by MARGIN.
+  struct Substrate {
+    double thickness_mm = 10.0;
+    double margin_mm = 10.0;
+    double size_x_mm = 0.0;  // 0: footprint + 2·margin
+    double size_y_mm = 0.0;
+  } substrate;
 };
 
 // A layer higher than this fraction of the bead width cannot be deposited as one bead (P2).

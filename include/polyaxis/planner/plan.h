@@ -12,6 +12,7 @@
 #include "polyaxis/geom2d/polygon.h"
 #include "polyaxis/machine/program.h"
 #include "polyaxis/mesh/repair.h"
+#include "polyaxis/motion/build_model.h"
 #include "polyaxis/motion/machine.h"
 #include "polyaxis/motion/process.h"
 #include "polyaxis/slicing/slice.h"
@@ -27,6 +28,9 @@ struct PlanOptions {
   int perimeters = 2;
   double retract_mm = 5.0;   // lift along the tool axis between layers
   int threads = 0;
+  // Every head point stays this far above the substrate and the table (the tip itself may touch
+  // the plate: it deposits there). Tool axes are turned towards the table's normal until it does.
+  double head_clearance_mm = 0.5;
 };
 
 // Support check (SPEC §3): a layer's area outside the layer below grown by t·tan(α), where α is
@@ -94,6 +98,10 @@ struct Plan {
   // region's support_free is cleared when one of its layers has unsupported area.
   std::vector<PlanRegion> placed_regions;
   Placement placement;        // part frame -> table frame; everything below is in the table frame
+  motion::BuildModel build_model;  // the table, the plate (top at Z = 0) and the head
+  // Tool axes turned towards the table's normal to keep the head clear of the plate or the table,
+  // or inside the tilt axis's reach, and the first layers on the plate laid with the torch upright.
+  std::uint64_t axes_turned = 0;
   double deposit_length_mm = 0.0;
   double travel_length_mm = 0.0;
   double unsupported_area_mm2 = 0.0;
@@ -110,11 +118,17 @@ inline constexpr double kReorientationDeg = 5.0;
 inline constexpr double kUnsupportedNoiseMm2 = 0.01;
 
 // Places PART (turning it so that the build direction — the first region's — is the table's +Z,
-// then translating it so that its base sits on the table at 0 and its footprint is centred on
-// the rotary axis), slices it at the process's layer height,
+// then translating it so that the first region's base sits on the substrate's top at Z = 0 and
+// its footprint is centred on the rotary axis), slices it (adaptive thickness within the
+// process's range when process.adaptive_layers, else at its layer height),
 // makes toolpaths with the process's bead, checks support, and lists the program points.
 // REGIONS (parents before children; empty: the whole part along options.direction) are built one
 // after the other, each sliced along its own direction; layers are numbered across regions.
+// Before slicing: a region reaching below the plate (kInfeasible) or built along a direction the
+// tilt axis cannot reach (kMachineLimit) is refused, naming the region, the direction and the
+// limit. Tool axes are kept inside the reach and the head clear of the plate and the table
+// (PlanOptions::head_clearance_mm, motion/build_model.h); a point where no axis within
+// toolpath::kMaxTiltRad of the layer's normal does is kMachineLimit.
 // Errors: bad options (kUsage), nothing to build (kInfeasible).
 core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
                              const PlanOptions& options, const std::vector<PlanRegion>& regions = {});

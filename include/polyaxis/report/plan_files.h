@@ -9,6 +9,7 @@
 #include "polyaxis/core/result.h"
 #include "polyaxis/machine/program.h"
 #include "polyaxis/machine/simulate.h"
+#include "polyaxis/machine/verify.h"
 #include "polyaxis/planner/plan.h"
 
 namespace polyaxis::report {
@@ -19,11 +20,15 @@ struct PlanMeta {
   std::string process;   // process name
   std::string gcode;     // the G-code file name
   // Wall-clock seconds of the stages outside make_plan.
-  double read_s = 0.0, repair_s = 0.0, gcode_s = 0.0, simulate_s = 0.0;
+  double read_s = 0.0, repair_s = 0.0, gcode_s = 0.0, simulate_s = 0.0, verify_s = 0.0;
+  std::string strategy;  // "single" or "decompose": what plan_part chose
+  std::string choice;    // and why
 };
 
 // report.json: the metrics of SPEC §3 (schema in docs/plan.md). SIM is the simulation of the
 // written G-code (build time and path length come from it).
-std::string report_json(const planner::Plan& plan, const machine::SimulationReport& sim, const PlanMeta& meta);
+// CHECK, when given, is the program verified against the build model (machine/verify.h).
+std::string report_json(const planner::Plan& plan, const machine::SimulationReport& sim, const PlanMeta& meta,
+                        const machine::BuildCheck* check = nullptr);
 
 }  // namespace polyaxis::report

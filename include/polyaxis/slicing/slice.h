@@ -20,6 +20,9 @@ struct AdaptiveLimits {
   std::optional<double> voldiff;          // Ruan Eq. 9, see adaptive.cpp for the normalisation
   std::optional<double> area_deviation;   // Hayasi: |A_top − A_bottom| / A_bottom
   std::optional<double> overhang_deg;     // Kapil Fig. 4: top within bottom grown by t·tan(α)
+  // With overhang_deg: the top may also step out by up to this much (mm) whatever t is, the step a
+  // tilted torch may take over the layer below (planner/support.h): grown by max(t·tan α, step).
+  std::optional<double> overhang_step_mm;
 };
 
 struct SliceOptions {

@@ -82,7 +82,20 @@ struct ToolpathOptions {
   double self_supporting_deg = 30.0;
   std::uint32_t region = 0;  // copied into Path::region
   int threads = 0;           // 0: all cores (oneTBB); the output does not depend on it
+  // The tilted torch's field along an outer contour (smooth_tool_axes): the largest tilt within
+  // axis_window_mm of arc length on either side is held (no chatter between facets), and the tilt
+  // ramps down no faster than max_axis_turn_deg_per_mm, so the rotary axes keep pace with the tip.
+  double axis_window_mm = 1.0;
+  double max_axis_turn_deg_per_mm = 3.75;
 };
+
+// The tool-axis field of one closed (CLOSED) or open contour, smoothed in place: the lean of each
+// axis from D (its component across D) is replaced by the largest lean within WINDOW_MM of arc
+// length on either side, in the mean lean direction there; then the tilt falls off from every
+// point at most TURN_DEG_PER_MM (both ways round a closed loop). Tilts only grow, so an overhang
+// that was tilted stays tilted. POINTS and AXES have the same size; axes are unit. O(n·window).
+void smooth_tool_axes(const std::vector<Vec3>& points, std::vector<Vec3>& axes, Vec3 d, bool closed, double window_mm,
+                      double turn_deg_per_mm);
 
 struct LayerToolpaths {
   std::uint32_t layer = 0;         // Layer::index

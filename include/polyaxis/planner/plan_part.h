@@ -1,0 +1,62 @@
+// The whole job as one library call (SPEC §1): from a repaired part, a machine and a process to a
+// verified machine program. The CLI's `plan` is a thin shell over it.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "polyaxis/analysis/centroidal_axis.h"
+#include "polyaxis/analysis/decompose.h"
+#include "polyaxis/core/result.h"
+#include "polyaxis/machine/gcode.h"
+#include "polyaxis/machine/simulate.h"
+#include "polyaxis/machine/verify.h"
+#include "polyaxis/planner/plan.h"
+
+namespace polyaxis::planner {
+
+enum class Strategy {
+  kSingle,     // one region along `direction`
+  kDecompose,  // analysis::decompose's regions, each along its own direction
+  kAuto,       // both; keeps the better (PlanPartOptions)
+};
+
+struct PlanPartOptions {
+  Strategy strategy = Strategy::kAuto;
+  Vec3 direction{0, 0, 1};       // the single region's build direction, and the root's default
+  analysis::RootBase root_base;  // where the root region stands (decompose; auto tries kLowest too)
+  PlanOptions plan;              // perimeters, tilt, retract, threads (plan.direction is set from `direction`)
+  machine::GcodeOptions gcode;   // path tolerance
+};
+
+struct PlanPartResult {
+  Plan plan;
+  std::string gcode;
+  machine::SimulationReport simulation;  // the program read back and compared with the plan
+  machine::BuildCheck check;             // the program checked against the build model
+  std::optional<analysis::CentroidalAxis> axis;  // the decomposition's, when it was used
+  Strategy strategy_used = Strategy::kSingle;
+  std::string choice;                    // what was chosen and why, one sentence
+  std::vector<std::string> warnings;     // not support-free regions, thin regions, ...
+  double gcode_s = 0.0, simulate_s = 0.0, verify_s = 0.0;
+};
+
+// Plans PART on MACHINE with PROCESS.
+// - kSingle: make_plan along options.direction.
+// - kDecompose: the part's centroidal axis and region tree (analysis::decompose, rooted at
+//   options.root_base), then make_plan over the regions.
+// - kAuto: kSingle; when that is not support-free, kDecompose too (rooted at options.root_base,
+//   then at the lowest point when that root leaves a region below the plate or out of reach). Keeps
+//   the plan with the least unsupported area; on a tie the fewer regions, then the fewer
+//   reorientations. A candidate that fails is skipped when the other succeeds.
+// Then the G-code, its simulation against the plan and its verification against the build model.
+// Errors: those of make_plan and write_gcode (kUsage naming options, kInfeasible, kMachineLimit
+// naming the region, direction and limit); a program breaking a machine limit is kMachineLimit.
+core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
+                                       const motion::ProcessConfig& process, const PlanPartOptions& options = {});
+
+// "single", "decompose", "auto".
+const char* strategy_name(Strategy s);
+
+}  // namespace polyaxis::planner

@@ -1,0 +1,207 @@
+#include "polyaxis/planner/plan_part.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <chrono>
+
+#include "polyaxis/mesh/properties.h"
+#include <cmath>
+
+namespace polyaxis::planner {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// The major direction (±X, ±Y, ±Z) nearest to D: where the centroidal axis starts.
+Vec3 nearest_major_direction(Vec3 d) {
+  const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
+  if (az >= ax && az >= ay) return {0, 0, d.z < 0 ? -1.0 : 1.0};
+  if (ay >= ax) return {0, d.y < 0 ? -1.0 : 1.0, 0};
+  return {d.x < 0 ? -1.0 : 1.0, 0, 0};
+}
+
+// A region below the root's base that the substrate plate itself can supply: it lies within the
+// plate's thickness under the base and holds at most this share of the part's volume (a corner
+// of a leaning feature poking under a base plate, not a feature of its own).
+constexpr double kPlateSuppliedShare = 0.01;
+
+bool supplied_by_plate(const analysis::Region& r, const analysis::Region& root, const motion::ProcessConfig& process,
+                       double part_volume) {
+  if (r.rule != "below the plate" || !r.parent || *r.parent != root.id) return false;
+  if (r.volume_mm3 > kPlateSuppliedShare * part_volume) return false;
+  const Vec3 up = core::normalized(root.build_direction);
+  const double base = core::dot(root.base_point, up);
+  double depth = 0.0;
+  for (const Vec3& v : r.mesh.vertices) depth = std::max(depth, base - core::dot(v, up));
+  return depth <= process.substrate.thickness_mm;
+}
+
+struct Candidate {
+  Plan plan;
+  std::optional<analysis::CentroidalAxis> axis;
+  Strategy strategy = Strategy::kSingle;
+  std::vector<std::string> warnings;
+};
+
+core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
+                                    const motion::ProcessConfig& process, const PlanPartOptions& o) {
+  PlanOptions po = o.plan;
+  po.direction = o.direction;
+  auto plan = make_plan(part, machine, process, po);
+  if (!plan) return plan.error();
+  return Candidate{std::move(plan.value()), std::nullopt, Strategy::kSingle, {}};
+}
+
+core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
+                                        const motion::ProcessConfig& process, const PlanPartOptions& o,
+                                        const analysis::RootBase& root_base) {
+  auto root_dir = analysis::root_direction(part.mesh, root_base, o.direction);
+  if (!root_dir) return root_dir.error();
+  analysis::CentroidalAxisOptions axis_options;
+  axis_options.start_direction = nearest_major_direction(root_dir.value());
+  auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
+  if (!axis) return axis.error();
+  analysis::DecomposeOptions dopt;
+  dopt.root_direction = root_dir.value();
+  dopt.root_base = root_base;
+  dopt.self_supporting_deg = process.self_supporting_deg;
+  auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
+  if (!tree) return tree.error();
+  Candidate c;
+  c.strategy = Strategy::kDecompose;
+  std::vector<PlanRegion> regions;
+  const double part_volume = std::abs(mesh::signed_volume(part.mesh));
+  for (const analysis::Region& r : tree.value().regions) {  // parents come before children
+    if (supplied_by_plate(r, tree.value().regions.front(), process, part_volume)) {
+      c.warnings.push_back(fmt::format("region {} ({:.1f} mm3) lies in the substrate plate under the root's base: the plate supplies it "
+                                       "(machine it from the plate), it is not deposited",
+                                       r.id, r.volume_mm3));
+      continue;
+    }
+    PlanRegion pr;
+    pr.id = r.id;
+    pr.mesh = r.mesh;
+    pr.direction = r.build_direction;
+    pr.parent = r.parent;
+    pr.base_point = r.base_point;
+    pr.support_free = r.support_free;
+    regions.push_back(std::move(pr));
+    if (!r.support_free) {
+      c.warnings.push_back(fmt::format("region {} is not support-free along its direction ({:.1f} mm2 overhang)", r.id,
+                                       r.unsupported_area_mm2));
+    }
+  }
+  PlanOptions po = o.plan;
+  po.direction = root_dir.value();
+  auto plan = make_plan(part, machine, process, po, regions);
+  if (!plan) return plan.error();
+  c.plan = std::move(plan.value());
+  c.axis = std::move(axis.value());
+  return c;
+}
+
+// True when A is the better plan: less unsupported area, then fewer regions, then fewer reorientations.
+bool better(const Plan& a, const Plan& b) {
+  if (std::abs(a.unsupported_area_mm2 - b.unsupported_area_mm2) > kUnsupportedNoiseMm2) return a.unsupported_area_mm2 < b.unsupported_area_mm2;
+  if (a.regions != b.regions) return a.regions < b.regions;
+  return a.reorientations < b.reorientations;
+}
+
+core::Result<Candidate> choose(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
+                               const PlanPartOptions& o, std::string& why) {
+  if (o.strategy == Strategy::kSingle) {
+    why = "one region along the given direction (--strategy single)";
+    return plan_single(part, machine, process, o);
+  }
+  if (o.strategy == Strategy::kDecompose) {
+    why = "the part's regions, each along its own direction (--strategy decompose)";
+    return plan_decomposed(part, machine, process, o, o.root_base);
+  }
+  // Auto: one direction; then the decomposition rooted as asked, at the lowest point, and with the
+  // part turned over; the best that succeeds.
+  std::vector<std::string> refused;
+  std::optional<Candidate> best;
+  std::string best_label;
+  auto consider = [&](core::Result<Candidate> c, const std::string& label) {
+    if (!c) return refused.push_back(fmt::format("{}: {}", label, c.error().message));
+    if (!best || better(c.value().plan, best->plan)) best = std::move(c.value()), best_label = label;
+  };
+  auto done = [&] { return best && best->plan.unsupported_area_mm2 == 0.0; };
+  consider(plan_single(part, machine, process, o), "one build direction");
+  if (!done()) consider(plan_decomposed(part, machine, process, o, o.root_base), "the decomposition");
+  if (!done() && o.root_base.kind == analysis::RootBase::Kind::kAuto) {
+    analysis::RootBase lowest;
+    lowest.kind = analysis::RootBase::Kind::kLowest;
+    consider(plan_decomposed(part, machine, process, o, lowest), "the decomposition from the lowest point");
+    if (!done()) {
+      PlanPartOptions over = o;
+      over.direction = o.direction * -1.0;
+      consider(plan_decomposed(part, machine, process, over, o.root_base), "the decomposition turned over");
+    }
+  }
+  if (!best) {
+    why = fmt::format("nothing could be planned: {}", fmt::join(refused, "; "));
+    return core::make_error(core::ErrorCode::kInfeasible, why);
+  }
+  const Plan& p = best->plan;
+  why = fmt::format("{} ({} region{}, {}{})", best_label, p.regions, p.regions == 1 ? "" : "s",
+                    p.unsupported_area_mm2 == 0.0 ? std::string("support-free") : fmt::format("{:.1f} mm2 unsupported", p.unsupported_area_mm2),
+                    refused.empty() ? "" : fmt::format("; refused: {}", fmt::join(refused, "; ")));
+  return std::move(*best);
+}
+
+}  // namespace
+
+const char* strategy_name(Strategy s) {
+  switch (s) {
+    case Strategy::kSingle: return "single";
+    case Strategy::kDecompose: return "decompose";
+    case Strategy::kAuto: return "auto";
+  }
+  return "?";
+}
+
+core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
+                                       const motion::ProcessConfig& process, const PlanPartOptions& options) {
+  PlanPartResult out;
+  auto chosen = choose(part, machine, process, options, out.choice);
+  if (!chosen) return chosen.error();
+  out.plan = std::move(chosen.value().plan);
+  out.axis = std::move(chosen.value().axis);
+  out.strategy_used = chosen.value().strategy;
+  out.warnings = std::move(chosen.value().warnings);
+  const Plan& plan = out.plan;
+  if (plan.thin_regions > 0) {
+    out.warnings.push_back(fmt::format("{} regions thinner than a bead ({:.1f} mm2) get no path; see plan.json", plan.thin_regions,
+                                       plan.thin_area_mm2));
+  }
+  if (plan.unsupported_area_mm2 > 0.0) {
+    out.warnings.push_back(fmt::format("the plan is not support-free: {:.1f} mm2 unsupported (report.html shows the pieces in red)",
+                                       plan.unsupported_area_mm2));
+  }
+  auto t0 = Clock::now();
+  auto gcode = machine::write_gcode(machine, process, plan.program, options.gcode);
+  if (!gcode) return gcode.error();
+  out.gcode = std::move(gcode.value());
+  out.gcode_s = since(t0);
+  t0 = Clock::now();
+  auto sim = machine::simulate(machine, out.gcode, plan.program, &process, options.gcode.chordal_mm);
+  if (!sim) return sim.error();
+  out.simulation = std::move(sim.value());
+  out.simulate_s = since(t0);
+  if (out.simulation.limit_violations > 0) {
+    return core::make_error(core::ErrorCode::kMachineLimit,
+                            fmt::format("the program breaks a machine limit: {}",
+                                        out.simulation.violations.empty() ? "" : out.simulation.violations.front()));
+  }
+  t0 = Clock::now();
+  auto check = machine::verify_build(machine, process, plan.build_model, out.gcode);
+  if (!check) return check.error();
+  out.check = std::move(check.value());
+  out.verify_s = since(t0);
+  return out;
+}
+
+}  // namespace polyaxis::planner

@@ -1,0 +1,32 @@
+// What the machine can reach with the part on its table: the tilt axis's range, and tool axes that
+// keep the head clear of the substrate plate and the table (motion/build_model.h). Private to the
+// planner module.
+#pragma once
+
+#include <vector>
+
+#include "polyaxis/core/result.h"
+#include "polyaxis/motion/build_model.h"
+#include "polyaxis/motion/machine.h"
+#include "polyaxis/planner/plan.h"
+
+namespace polyaxis::planner::detail {
+
+// The largest angle (radians) between a tool axis and the table's +Z that the tilt axis reaches:
+// the larger end of its range when C turns through a whole turn (either branch then reaches every
+// azimuth), else the smaller end; 0 on a 3-axis machine.
+double reach_rad(const motion::MachineConfig& machine);
+
+// kMachineLimit naming the first placed region whose build direction is beyond REACH_RAD of +Z,
+// with the tilt it needs, the limit and what would make it reachable.
+core::Status check_region_reach(const std::vector<PlanRegion>& placed, const motion::MachineConfig& machine, double reach_rad);
+
+// Turns AXIS (unit) towards the table's +Z, along the great circle, as little as needed for the
+// head at TIP, and at TIP + LIFT_MM along the axis (where the tool retracts to), to keep
+// CLEARANCE_MM above the plate and the table and for the axis to be within
+// REACH_RAD of +Z, but never beyond toolpath::kMaxTiltRad from the layer normal D. Returns false
+// (AXIS the best found) when no such axis exists. Cost: about 30 clearance evaluations when the
+// axis must turn, one otherwise.
+bool guard_axis(const motion::BuildModel& model, double reach_rad, double clearance_mm, double lift_mm, Vec3 tip, Vec3 d, Vec3& axis);
+
+}  // namespace polyaxis::planner::detail
