@@ -98,6 +98,26 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
                                         "{:.4f}): no path between opposite axes",
                                         p0.x, p0.y, p0.z, p1.x, p1.y, p1.z));
   }
+  if (has_rotary_axes(machine.kind)) {
+    // Passing close by the singular axis: through it instead.
+    for (const Vec3 pole : {Vec3{0, 0, 1}, Vec3{0, 0, -1}}) {
+      const Vec3 n = cross(t0, t1);
+      if (norm(n) < kSlerpParallelRad) break;
+      const Vec3 un = normalized(n);
+      const double off = std::asin(std::min(1.0, std::abs(dot(un, pole))));
+      const Vec3 q = normalized(pole - un * dot(un, pole));
+      const double a0 = std::atan2(norm(cross(t0, q)), dot(t0, q)), a1 = std::atan2(norm(cross(q, t1)), dot(q, t1));
+      const double e0 = std::atan2(norm(cross(t0, pole)), dot(t0, pole)), e1 = std::atan2(norm(cross(t1, pole)), dot(t1, pole));
+      if (off == 0.0 || off >= kPoleSnapRad || e0 < kPoleSnapRad || e1 < kPoleSnapRad || std::abs(a0 + a1 - omega) > 1e-9) continue;
+      const Vec3 pm = lerp(p0, p1, a0 / omega);
+      auto first = subdivide(machine, p0, t0, pm, pole, start, chordal_mm);
+      if (!first) return first.error();
+      auto second = subdivide(machine, pm, pole, p1, t1, first.value().back(), chordal_mm);
+      if (!second) return second.error();
+      first.value().insert(first.value().end(), second.value().begin(), second.value().end());
+      return first;
+    }
+  }
   std::vector<MachinePose> out;
   MachinePose from = start;
   // Leaving a singular axis (RELIABILITY O2: the tool along C, upright or upside down): C was

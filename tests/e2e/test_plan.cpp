@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "support/cli.h"
+#include "support/readback.h"
 
 namespace polyaxis::test {
 namespace {
@@ -62,6 +63,39 @@ std::vector<std::array<double, 6>> rs274_positions(const std::string& canon) {
   return out;
 }
 
+// The program in DIR read back (support/readback.h) on the default machine and process, with the
+// plate report.json states; checks what every plan must hold and returns the reading.
+ReadBack check_readback(const std::filesystem::path& dir, const std::string& name) {
+  auto machine = motion::parse_machine(motion::default_machine_json(), "default");
+  auto process = motion::parse_process(motion::default_process_json(), "default");
+  EXPECT_TRUE(machine.ok() && process.ok());
+  const auto report = read_json(dir / "report.json");
+  const auto& sub = report["substrate"];
+  const Plate plate{sub["x_mm"][0].get<double>(), sub["x_mm"][1].get<double>(), sub["y_mm"][0].get<double>(), sub["y_mm"][1].get<double>(),
+                    sub["top_z_mm"].get<double>(), sub["top_z_mm"].get<double>() - sub["thickness_mm"].get<double>()};
+  const motion::ProcessConfig& p = process.value();
+  const double spacing = p.bead_width_mm / 4.0;
+  const double step = std::max(p.max_step_bead_share * p.bead_width_mm, p.layer_max_mm * std::tan(p.self_supporting_deg * M_PI / 180.0));
+  const double reach = std::hypot(std::max(p.layer_max_mm, 0.5 * (p.layer_max_mm + p.bead_width_mm)), std::max(0.5 * p.bead_width_mm, step)) + spacing;
+  const ReadBack rb = read_back(machine.value(), p, plate, slurp(dir / (name + ".ngc")), reach, spacing);
+  EXPECT_GT(rb.deposit_samples, 0u) << name;
+  EXPECT_EQ(rb.head_below, 0u) << name << ": " << rb.worst_head_mm << " mm; " << rb.first_problem;
+  EXPECT_LE(rb.slow_s, 0.01 * rb.on_s) << name;
+  EXPECT_TRUE(rb.regions_starting_in_air.empty()) << name << ": " << rb.first_problem;
+  if (report["support_free"].get<bool>()) {
+    EXPECT_EQ(rb.ungrounded, 0u) << name << ": " << rb.first_problem;
+  }
+  // The library's own verification of the same program agrees.
+  const auto& check = report["build_check"];
+  EXPECT_EQ(check["head_collisions"].get<int>(), 0) << name;
+  EXPECT_TRUE(check["mid_air_regions"].empty()) << name;
+  EXPECT_LE(check["stalled_s"].get<double>(), 0.01 * check["process_on_s"].get<double>()) << name;
+  if (report["support_free"].get<bool>()) {
+    EXPECT_EQ(check["ungrounded_samples"].get<int>(), 0) << name << check["problems"];
+  }
+  return rb;
+}
+
 class PlanPart : public testing::TestWithParam<const char*> {};
 
 TEST_P(PlanPart, DefaultsGiveCodeAControllerAcceptsAndTheSimulationConfirms) {
@@ -80,6 +114,7 @@ TEST_P(PlanPart, DefaultsGiveCodeAControllerAcceptsAndTheSimulationConfirms) {
   EXPECT_GT(report["layers"].get<int>(), 0);
   EXPECT_GT(report["build_time_s"].get<double>(), 0.0);
   const std::string gcode = slurp(ngc);
+  check_readback(dir.path(), name);
   EXPECT_EQ(gcode.find("nan"), std::string::npos);
   EXPECT_EQ(gcode.find("inf"), std::string::npos);
 
@@ -128,7 +163,7 @@ TEST(PlanImpeller, TiltedTorchMakesTheBladeTipsSupportFree) {  // Kapil's compar
 TEST(PlanLBlock, DecompositionBuildsTheArmAlongXAndIsSupportFree) {
   TempDir dir;
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
-  const auto planar = run_cli("plan '" + part + "' -o '" + (dir / "planar").string() + "'");
+  const auto planar = run_cli("plan '" + part + "' --strategy single -o '" + (dir / "planar").string() + "'");
   ASSERT_EQ(planar.exit_code, 0) << planar.err;
   EXPECT_FALSE(read_json(dir / "planar" / "report.json")["support_free"].get<bool>());  // the arm's underside
   EXPECT_FALSE(read_json(dir / "planar" / "plan.json")["regions"][0]["support_free"].get<bool>());
@@ -186,20 +221,43 @@ TEST(PlanDecomposed, FiveWallsBuildRadiallyAfterTheCylinder) {
   EXPECT_EQ(radial, 5);
 }
 
-TEST(PlanDecomposed, HingeNeedsATableThatTurnsUpsideDown) {
-  // The knuckles under the body build along −Z: a half turn of A, beyond ded5_ac's ±120°.
-  TempDir small;
+TEST(PlanDecomposed, HingeIsTurnedOverSoNothingHangsUnderThePlate) {
+  // Rooted on the body, the knuckles under it would build along −Z into the plate: refused before
+  // slicing, naming the region. By default the part is turned over: the body's top on the plate,
+  // the lugs sideways, the knuckles up, all support-free.
+  TempDir refused_dir;
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/hinge.stl";
-  const auto refused = run_cli("plan '" + part + "' --decompose -o '" + small.path().string() + "'");
-  EXPECT_EQ(refused.exit_code, 5);
-  EXPECT_NE(refused.err.find("A = "), std::string::npos) << refused.err;
-  EXPECT_FALSE(std::filesystem::exists(small / "hinge.ngc"));
+  const auto refused = run_cli("plan '" + part + "' --strategy decompose -o '" + refused_dir.path().string() + "'");
+  EXPECT_EQ(refused.exit_code, 4);
+  EXPECT_NE(refused.err.find("below the substrate"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("region "), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(refused_dir / "hinge.ngc"));
   TempDir dir;
-  const Decomposed d = plan_decomposed("hinge", "--set machine.limits.a.min=-180 --set machine.limits.a.max=180", dir);
-  ASSERT_FALSE(d.report.is_null());
-  EXPECT_EQ(d.report["regions"].get<int>(), 5);
-  EXPECT_TRUE(d.report["support_free"].get<bool>()) << d.report["unsupported_area_mm2"];
-  EXPECT_LE(d.tip_deviation_mm, 0.01);
+  const auto r = run_cli("plan '" + part + "' -o '" + dir.path().string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_json(dir / "report.json");
+  EXPECT_EQ(report["strategy"], "decompose");
+  EXPECT_GE(report["regions"].get<int>(), 3);
+  EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+  const auto plan = read_json(dir / "plan.json");
+  EXPECT_NEAR(plan["placement_rotation"][2][2].get<double>(), -1.0, 1e-9);  // turned over
+}
+
+TEST(PlanReach, ADirectionBeyondTheTiltRangeIsRefusedBeforeSlicingAndAWiderMachinePlansIt) {
+  TempDir dir;
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
+  const auto refused =
+      run_cli("plan '" + part + "' --strategy decompose --set machine.limits.a.min=-60 --set machine.limits.a.max=60 -o '" +
+              dir.path().string() + "'");
+  EXPECT_EQ(refused.exit_code, 5) << refused.err;
+  EXPECT_NE(refused.err.find("region 1"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("limits.a"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("90.0 deg"), std::string::npos) << refused.err;
+  EXPECT_EQ(refused.err.find("slicing"), std::string::npos) << refused.err;  // before slicing: no progress shown
+  EXPECT_FALSE(std::filesystem::exists(dir / "l_block.ngc"));
+  const auto wide = run_cli("plan '" + part + "' --strategy decompose -o '" + dir.path().string() + "'");
+  ASSERT_EQ(wide.exit_code, 0) << wide.err;
+  EXPECT_TRUE(read_json(dir / "report.json")["support_free"].get<bool>());
 }
 
 TEST(PlanDecomposed, TwoBranchesBuildsEachRegionOnWhatIsBuilt) {
@@ -227,7 +285,7 @@ TEST(PlanDecomposed, TwoBranchesBuildsEachRegionOnWhatIsBuilt) {
 TEST(PlanReport, SvgPerLayerHasContoursPathsAndSeams) {
   TempDir dir;
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/pen_rack.stl";
-  const auto r = run_cli("plan '" + part + "' --svg -o '" + dir.path().string() + "'");
+  const auto r = run_cli("plan '" + part + "' --strategy single --svg -o '" + dir.path().string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto plan = read_json(dir / "plan.json");
   std::size_t svgs = 0;
@@ -281,9 +339,9 @@ TEST(PlanErrors, BadConfigurationExitsTwoNamingTheKey) {
 TEST(PlanErrors, RootBaseIsCheckedAndNeedsDecompose) {
   TempDir dir;
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
-  auto r = run_cli("plan '" + part + "' --root-base z-min -o '" + dir.path().string() + "'");
+  auto r = run_cli("plan '" + part + "' --strategy single --root-base z-min -o '" + dir.path().string() + "'");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--decompose"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--strategy decompose"), std::string::npos) << r.err;
   r = run_cli("plan '" + part + "' --decompose --root-base 99 -o '" + dir.path().string() + "'");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--root-base"), std::string::npos) << r.err;
@@ -305,7 +363,7 @@ TEST(PlanErrors, RootBaseIsCheckedAndNeedsDecompose) {
 TEST(PlanErrors, MachineTooSmallExitsFiveAndWritesNothing) {
   TempDir dir;
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/l_block.stl";
-  const auto r = run_cli("plan '" + part + "' --set machine.limits.x.max=10 -o '" + dir.path().string() + "'");
+  const auto r = run_cli("plan '" + part + "' --set machine.limits.x.min=-5 --set machine.limits.x.max=5 -o '" + dir.path().string() + "'");
   EXPECT_EQ(r.exit_code, 5) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "l_block.ngc"));
 }

@@ -13,6 +13,12 @@ namespace polyaxis::motion {
 // near the singular tilt (RELIABILITY O2) and keeps the deviation sampling below meaningful.
 inline constexpr double kMaxRotaryStepDeg = 5.0;
 
+// A move whose tool axis passes this close (radians) to the singular axis (the tool along C), but
+// not through it, is turned through it exactly instead: on the way past, C would have to swing
+// half a turn within a sliver of the move (a greedy branch choice cannot even follow it). The
+// axis then leaves the slerp path by at most this angle (1°).
+inline constexpr double kPoleSnapRad = 1.0 * 3.14159265358979323846 / 180.0;
+
 // Bisection stops here (at most 2^16 pieces per segment); still too far is an error.
 inline constexpr int kMaxSubdivisionDepth = 16;
 
@@ -24,7 +30,9 @@ inline constexpr int kMaxSubdivisionDepth = 16;
 // kMaxRotaryStepDeg. The last pose is the inverse kinematics of (P1, T1). START is not included.
 // Errors: those of inverse() for any intermediate point (kMachineLimit), kInfeasible when the tool
 // axis reverses (T1 = −T0) or the tolerance cannot be met within kMaxSubdivisionDepth, kUsage for
-// a non-positive chordal_mm. Cost: O(pieces) inverse/forward evaluations.
+// a non-positive chordal_mm. An axis path passing within kPoleSnapRad of the singular axis goes
+// through it (two moves meeting there, C turned in place between them). Cost: O(pieces)
+// inverse/forward evaluations.
 core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, Vec3 p0, Vec3 t0, Vec3 p1, Vec3 t1,
                                                  const MachinePose& start, double chordal_mm);
 

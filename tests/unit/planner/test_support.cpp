@@ -65,13 +65,19 @@ TEST(SupportCheck, LayersSpreadingOverTheRegionBelowRestOnIt) {
   EXPECT_GT(tenth_area, first_area + 100.0);
 }
 
-TEST(SupportCheck, ARegionBuiltBeforeWhatHoldsItHangs) {
-  // The same regions the wrong way round: the upper half first stands on the table at its lowest
-  // edge and its underside (the cut, facing down) hangs over nothing yet.
+TEST(SupportCheck, ARegionBuiltBeforeWhatHoldsItIsRefused) {
+  // The same regions the wrong way round: the upper half first stands on the plate, so the lower
+  // half would have to go into the plate under it. Refused before slicing, naming the region.
   const Split s;
-  const Plan plan = plan_of(s.whole, {region(0, s.upper, s.leaning, std::nullopt), region(1, s.lower, {0, 0, 1}, 0)});
-  EXPECT_GT(plan.unsupported_area_mm2, 100.0);
-  EXPECT_FALSE(plan.placed_regions[0].support_free);
+  auto machine = motion::parse_machine(motion::default_machine_json(), "default");
+  auto process = motion::parse_process(motion::default_process_json(), "default");
+  ASSERT_TRUE(machine.ok() && process.ok());
+  auto plan = make_plan(s.whole, machine.value(), process.value(), PlanOptions{},
+                        {region(0, s.upper, s.leaning, std::nullopt), region(1, s.lower, {0, 0, 1}, 0)});
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(plan.error().code, core::ErrorCode::kInfeasible);
+  EXPECT_NE(plan.error().message.find("region 1"), std::string::npos) << plan.error().message;
+  EXPECT_NE(plan.error().message.find("below the substrate"), std::string::npos) << plan.error().message;
 }
 
 TEST(SupportCheck, ARegionsFirstLayerOverNothingHangs) {

@@ -1,0 +1,158 @@
+// The e2e tests' own reading of a program as the machine runs it, written apart from the
+// library's verifier (machine/verify.h) so the two check each other: the axis words of every
+// block, joint-linear between blocks, through forward kinematics (motion::forward, itself checked
+// against LinuxCNC's trt-kins), sampled; the head, the grounding of every bead and the stalls
+// checked with rules stated here.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "polyaxis/motion/kinematics.h"
+#include "polyaxis/motion/machine.h"
+#include "polyaxis/motion/process.h"
+
+namespace polyaxis::test {
+
+struct Plate {  // the substrate's rectangle and top, and the table's top (report.json "substrate")
+  double x0, x1, y0, y1, top, table_top;
+};
+
+struct ReadBack {
+  std::size_t samples = 0, deposit_samples = 0;
+  std::size_t head_below = 0;       // samples with a head point below the plate's or the table's top
+  double worst_head_mm = 0.0;
+  std::size_t ungrounded = 0;       // deposit samples with no earlier-layer deposit (or plate) near under them
+  std::vector<int> regions_starting_in_air;
+  double on_s = 0.0, slow_s = 0.0;  // process-on feed time, and of it with the tip below half the deposit feed
+  std::string first_problem;
+};
+
+// Reads GCODE on MACHINE. Rules:
+// - head: the nozzle is a cone (half-angle θ, height z1) under a cylinder (radius R, height H);
+//   every circle bounding them (at z1 with the larger radius, at z1 + H with R) has its lowest
+//   point at centre.z − r·sin(tilt); that point, and the tip, must not be below the plate's top
+//   where the circle's disc overlaps the plate, nor below the table's top elsewhere.
+// - grounding: a deposit sample is grounded when it is over the plate within REACH_MM of its top,
+//   or when a deposit sample of an earlier layer ("(layer N" comments) lies within REACH_MM.
+// - stall: a block with the process on whose tip path over its duration (F as LinuxCNC reads it
+//   in G94: XYZ mm/min, else rotary deg/min) is below half the deposit feed.
+inline ReadBack read_back(const motion::MachineConfig& m, const motion::ProcessConfig& proc, const Plate& plate, const std::string& gcode,
+                          double reach_mm, double spacing_mm) {
+  ReadBack rb;
+  const double kPi = 3.14159265358979323846;
+  const double z1 = m.nozzle.cone_height_mm, R = m.nozzle.cylinder_radius_mm, H = m.nozzle.cylinder_height_mm;
+  const double r1 = std::max(R, z1 * std::tan(m.nozzle.tip_half_angle_deg * kPi / 180.0));
+  auto surface = [&](double x, double y, double r) {
+    const double dx = std::max({plate.x0 - x, 0.0, x - plate.x1}), dy = std::max({plate.y0 - y, 0.0, y - plate.y1});
+    return dx * dx + dy * dy <= r * r ? plate.top : plate.table_top;
+  };
+  std::map<std::array<long, 3>, std::vector<core::Vec3>> earlier;  // deposit of finished layers, 1-reach cells
+  std::vector<core::Vec3> layer_pts;
+  auto cell = [&](core::Vec3 p) {
+    return std::array<long, 3>{static_cast<long>(std::floor(p.x / reach_mm)), static_cast<long>(std::floor(p.y / reach_mm)),
+                               static_cast<long>(std::floor(p.z / reach_mm))};
+  };
+  auto near_earlier = [&](core::Vec3 p) {
+    const auto c = cell(p);
+    for (long i = -1; i <= 1; ++i)
+      for (long j = -1; j <= 1; ++j)
+        for (long k = -1; k <= 1; ++k) {
+          const auto it = earlier.find({c[0] + i, c[1] + j, c[2] + k});
+          if (it == earlier.end()) continue;
+          for (const core::Vec3& q : it->second)
+            if (core::norm(q - p) <= reach_mm) return true;
+        }
+    return false;
+  };
+  std::istringstream in(gcode);
+  std::string line;
+  std::array<double, 6> pos{}, prev{};
+  bool have = false, on = false;
+  int layer = -1, region = -1;
+  double feed = 0.0;
+  std::vector<int> started;
+  const std::regex comment(R"(^\(layer (\d+) region (\d+))");
+  std::smatch mt;
+  const std::string letters = "XYZABC";
+  while (std::getline(in, line)) {
+    if (std::regex_search(line, mt, comment)) {
+      const int l = std::stoi(mt[1]);
+      if (l != layer) {
+        for (const core::Vec3& p : layer_pts) earlier[cell(p)].push_back(p);
+        layer_pts.clear();
+      }
+      layer = l, region = std::stoi(mt[2]);
+      continue;
+    }
+    if (line == proc.process_on) on = true;
+    if (line == proc.process_off) on = false;
+    if (line.rfind("G0 ", 0) != 0 && line.rfind("G1 ", 0) != 0) continue;
+    const bool rapid = line[1] == '0';
+    prev = pos;
+    for (std::size_t i = 0; i < 6; ++i) {
+      const auto at = line.find(letters[i]);
+      if (at != std::string::npos) pos[i] = std::stod(line.substr(at + 1));
+    }
+    if (const auto f = line.find('F'); f != std::string::npos) feed = std::stod(line.substr(f + 1));
+    const char tilt = motion::tilt_axis_letter(m.kind);
+    auto pose = [&](const std::array<double, 6>& a, const std::array<double, 6>& b, double u) {
+      auto lerp = [&](std::size_t i) { return a[i] + (b[i] - a[i]) * u; };
+      return motion::MachinePose{lerp(0), lerp(1), lerp(2), tilt == 'B' ? lerp(4) : lerp(3), lerp(5)};
+    };
+    const core::Vec3 from = motion::forward(m, pose(prev, pos, 0.0)).tip_part_mm;
+    const core::Vec3 to = motion::forward(m, pose(prev, pos, 1.0)).tip_part_mm;
+    const double rot = std::max({std::abs(pos[3] - prev[3]), std::abs(pos[4] - prev[4]), std::abs(pos[5] - prev[5])});
+    const int n = have ? std::max(1, static_cast<int>(std::ceil(std::max(core::norm(to - from) / spacing_mm, rot)))) : 1;
+    double length = 0.0;
+    core::Vec3 last = from;
+    for (int k = have ? 1 : n; k <= n; ++k) {
+      const motion::MachineToolPose tp = motion::forward(m, pose(prev, pos, static_cast<double>(k) / n));
+      const core::Vec3 t = tp.tip_part_mm, a = core::normalized(tp.tool_axis_part);
+      length += core::norm(t - last);
+      last = t;
+      ++rb.samples;
+      const double side = std::sqrt(std::max(0.0, 1.0 - a.z * a.z));
+      double low = t.z - surface(t.x, t.y, 0.0);
+      for (const auto& [s, r] : {std::pair<double, double>{z1, r1}, {z1 + H, R}}) {
+        const core::Vec3 c = t + a * s;
+        low = std::min(low, c.z - r * side - surface(c.x, c.y, r));
+      }
+      if (low < -1e-3) {
+        ++rb.head_below;
+        rb.worst_head_mm = std::max(rb.worst_head_mm, -low);
+        if (rb.first_problem.empty()) rb.first_problem = "head below the plate or table: " + line;
+      }
+      if (!on || !have) continue;
+      ++rb.deposit_samples;
+      const bool first = std::find(started.begin(), started.end(), region) == started.end();
+      if (first) started.push_back(region);
+      const bool on_plate = t.x >= plate.x0 && t.x <= plate.x1 && t.y >= plate.y0 && t.y <= plate.y1 && t.z >= plate.top - 1e-3 &&
+                            t.z <= plate.top + reach_mm;
+      if (!on_plate && !near_earlier(t)) {
+        ++rb.ungrounded;
+        if (first) rb.regions_starting_in_air.push_back(region);
+        if (rb.first_problem.empty()) rb.first_problem = "bead over nothing: " + line;
+      }
+      layer_pts.push_back(t);
+    }
+    if (have && on && !rapid && feed > 0.0) {
+      const double xyz = std::hypot(pos[0] - prev[0], pos[1] - prev[1], pos[2] - prev[2]);
+      const double rot_len = std::hypot(pos[3] - prev[3], pos[4] - prev[4], pos[5] - prev[5]);
+      const double minutes = xyz > 0.0 ? xyz / feed : rot_len / feed;
+      const double seconds = minutes * 60.0;
+      rb.on_s += seconds;
+      if (seconds > 0.0 && length / seconds < 0.5 * proc.deposit_feed_mm_s) rb.slow_s += seconds;
+    }
+    have = true;
+  }
+  return rb;
+}
+
+}  // namespace polyaxis::test
