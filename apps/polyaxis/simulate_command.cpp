@@ -21,6 +21,7 @@ struct SimulateOptions {
   std::string plan_path;
   ConfigOptions configs;
   bool json = false;
+  double path_tolerance_mm = 0.01;
 };
 
 int run_simulate(const SimulateOptions& o) {
@@ -36,7 +37,7 @@ int run_simulate(const SimulateOptions& o) {
     if (!program) return report_error(program.error());
     plan = std::move(program.value());
   }
-  auto sim = machine::simulate(configs.value().machine, text.value(), plan, &configs.value().process);
+  auto sim = machine::simulate(configs.value().machine, text.value(), plan, &configs.value().process, o.path_tolerance_mm);
   if (!sim) return report_error(sim.error());
   const machine::SimulationReport& r = sim.value();
   if (o.json) {
@@ -73,6 +74,9 @@ Runner add_simulate_command(CLI::App& app) {
   cmd->add_option("GCODE", o->gcode_path, "G-code file (LinuxCNC dialect, as polyaxis writes it)")->required();
   add_config_options(*cmd, o->configs, false);
   cmd->add_option("--plan", o->plan_path, "plan.json of the same program: report the deviation from it");
+  cmd->add_option("--path-tolerance-mm", o->path_tolerance_mm,
+                  "A sample of the program this close to a planned segment lies on it (the plan's path tolerance), mm")
+      ->capture_default_str()->check(CLI::Range(1e-4, 1.0));
   cmd->add_flag("--json", o->json, "Print one JSON object");
   return [o] { return run_simulate(*o); };
 }

@@ -48,7 +48,8 @@ core::Status place_checks(const std::vector<PlanRegion>& regions, const motion::
     }
   }
   plan.build_model = motion::make_build_model(machine, process, box.min.x, box.min.y, box.max.x, box.max.y);
-  return detail::check_region_reach(regions, machine, detail::reach_rad(machine));
+  if (auto s = detail::check_region_reach(regions, machine, detail::reach_rad(machine)); !s) return s;
+  return detail::check_region_travel(regions, machine);
 }
 
 // Keeps every tool axis of REGION's PATHS inside the machine's reach with the head clear of the
@@ -62,7 +63,7 @@ core::Status guard_axes(Plan& plan, const motion::MachineConfig& machine, const 
     for (toolpath::Path& path : paths[k].paths) {
       for (toolpath::PathPoint& p : path.points) {
         Vec3 axis = on_plate ? layer.frame.d : p.tool_axis;
-        if (!detail::guard_axis(plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, layer.frame.d, axis)) {
+        if (!detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, layer.frame.d, axis)) {
           return core::make_error(
               core::ErrorCode::kMachineLimit,
               fmt::format("region {} layer {}: at ({:.2f}, {:.2f}, {:.2f}) on the table no tool axis within {:.0f} deg of the build "
@@ -264,7 +265,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
           for (TransitPoint t : transit(last.tip_part_mm, last.tool_axis_part, approach, p0.tool_axis, sphere_centre, sphere_radius)) {
             // Below the part's middle the sphere's outward axis points the head at the plate:
             // turned up until it clears, and lifted above the plate where no turn does.
-            if (!detail::guard_axis(plan.build_model, reach, options.head_clearance_mm, 0.0, t.tip, t.axis, t.axis)) {
+            if (!detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, 0.0, t.tip, t.axis, t.axis)) {
               t.axis = {0, 0, 1};
               t.tip.z = std::max(t.tip.z, options.head_clearance_mm);
             }

@@ -124,8 +124,12 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const motion::Mac
   std::vector<std::string> refused;
   std::optional<Candidate> best;
   std::string best_label;
+  std::optional<core::ErrorCode> first_code;
   auto consider = [&](core::Result<Candidate> c, const std::string& label) {
-    if (!c) return refused.push_back(fmt::format("{}: {}", label, c.error().message));
+    if (!c) {
+      if (!first_code) first_code = c.error().code;
+      return refused.push_back(fmt::format("{}: {}", label, c.error().message));
+    }
     if (!best || better(c.value().plan, best->plan)) best = std::move(c.value()), best_label = label;
   };
   auto done = [&] { return best && best->plan.unsupported_area_mm2 == 0.0; };
@@ -143,7 +147,7 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const motion::Mac
   }
   if (!best) {
     why = fmt::format("nothing could be planned: {}", fmt::join(refused, "; "));
-    return core::make_error(core::ErrorCode::kInfeasible, why);
+    return core::make_error(first_code.value_or(core::ErrorCode::kInfeasible), why);
   }
   const Plan& p = best->plan;
   why = fmt::format("{} ({} region{}, {}{})", best_label, p.regions, p.regions == 1 ? "" : "s",

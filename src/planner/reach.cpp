@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "polyaxis/motion/kinematics.h"
 #include "polyaxis/toolpath/toolpath.h"
 
 namespace polyaxis::planner::detail {
@@ -55,12 +56,33 @@ core::Status check_region_reach(const std::vector<PlanRegion>& placed, const mot
   return {};
 }
 
-bool guard_axis(const motion::BuildModel& model, double reach, double clearance_mm, double lift_mm, Vec3 tip, Vec3 d, Vec3& axis) {
+core::Status check_region_travel(const std::vector<PlanRegion>& placed, const motion::MachineConfig& m) {
+  for (const PlanRegion& r : placed) {
+    core::Box3 box;
+    for (const Vec3& v : r.mesh.vertices) box.add(v);
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 corner{k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y, k & 4 ? box.max.z : box.min.z};
+      auto pose = motion::inverse(m, corner, r.direction, nullptr);
+      if (pose) continue;
+      return core::make_error(core::ErrorCode::kMachineLimit,
+                              fmt::format("region {}: built along ({:.3f}, {:.3f}, {:.3f}), its corner ({:.1f}, {:.1f}, {:.1f}) on the table "
+                                          "is out of the machine's travel: {}; a machine with more travel (machine '{}', limits) would "
+                                          "reach it",
+                                          r.id, r.direction.x, r.direction.y, r.direction.z, corner.x, corner.y, corner.z,
+                                          pose.error().message, m.name));
+    }
+  }
+  return {};
+}
+
+bool guard_axis(const motion::MachineConfig& machine, const motion::BuildModel& model, double reach, double clearance_mm,
+                double lift_mm, Vec3 tip, Vec3 d, Vec3& axis) {
   const Vec3 up{0, 0, 1};
   const Vec3 start = core::normalized(axis);
   auto ok = [&](Vec3 a) {
     return angle(a, up) <= reach + 1e-12 && motion::head_clearance_mm(model, tip, a) >= clearance_mm &&
-           motion::head_clearance_mm(model, tip + a * lift_mm, a) >= clearance_mm && (tip + a * lift_mm).z >= 0.0;
+           motion::head_clearance_mm(model, tip + a * lift_mm, a) >= clearance_mm && (tip + a * lift_mm).z >= 0.0 &&
+           motion::inverse(machine, tip, a, nullptr).ok() && motion::inverse(machine, tip + a * lift_mm, a, nullptr).ok();
   };
   if (ok(start)) return true;
   // The furthest the axis may turn: to +Z, or as far as it stays within kMaxTiltRad of D.

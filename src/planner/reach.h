@@ -1,5 +1,6 @@
 // What the machine can reach with the part on its table: the tilt axis's range, and tool axes that
-// keep the head clear of the substrate plate and the table (motion/build_model.h). Private to the
+// keep the head clear of the substrate plate and the table (motion/build_model.h), within the
+// machine's travel. Private to the
 // planner module.
 #pragma once
 
@@ -27,6 +28,13 @@ core::Status check_region_reach(const std::vector<PlanRegion>& placed, const mot
 // REACH_RAD of +Z, but never beyond toolpath::kMaxTiltRad from the layer normal D. Returns false
 // (AXIS the best found) when no such axis exists. Cost: about 30 clearance evaluations when the
 // axis must turn, one otherwise.
-bool guard_axis(const motion::BuildModel& model, double reach_rad, double clearance_mm, double lift_mm, Vec3 tip, Vec3 d, Vec3& axis);
+// The machine's soft limits are kept too: an axis for which no inverse-kinematics branch stays
+// inside them is turned further.
+bool guard_axis(const motion::MachineConfig& machine, const motion::BuildModel& model, double reach_rad, double clearance_mm,
+                double lift_mm, Vec3 tip, Vec3 d, Vec3& axis);
+
+// kMachineLimit naming the first placed region that cannot be reached along its own build
+// direction at a corner of its bounding box (table frame): the linear travel, before slicing.
+core::Status check_region_travel(const std::vector<PlanRegion>& placed, const motion::MachineConfig& machine);
 
 }  // namespace polyaxis::planner::detail

@@ -1,6 +1,7 @@
 // Test meshes made in code, served by kind so a property can be checked on all of them.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -41,6 +42,112 @@ inline RawMesh torus(double major, double minor, std::uint32_t n, std::uint32_t 
       mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
       mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
+  }
+  return mesh;
+}
+
+// Signed volume of A (divergence theorem), mm³: positive when A is closed and outward.
+inline double signed_volume_of(const RawMesh& a) {
+  double v = 0.0;
+  for (const auto& t : a.triangles) {
+    const auto& p = a.points[t[0]];
+    const auto& q = a.points[t[1]];
+    const auto& r = a.points[t[2]];
+    v += (p.x * (q.y * r.z - q.z * r.y) - p.y * (q.x * r.z - q.z * r.x) + p.z * (q.x * r.y - q.y * r.x)) / 6.0;
+  }
+  return v;
+}
+
+// A round bar of radius R_BAR bent along an arc of radius R_BEND through SWEEP_DEG, standing on
+// z = 0 (its first end) and bending from +Z towards +X; N segments along the arc, M around the bar,
+// both ends capped. Closed and outward.
+inline RawMesh bent_bar(double r_bend, double r_bar, double sweep_deg, std::uint32_t n, std::uint32_t m) {
+  RawMesh mesh;
+  const double kPi = 3.14159265358979323846;
+  for (std::uint32_t i = 0; i <= n; ++i) {
+    const double phi = sweep_deg * kPi / 180.0 * i / n;
+    const core::Vec3 c{r_bend - r_bend * std::cos(phi), 0.0, r_bend * std::sin(phi)};
+    const core::Vec3 nrm{std::cos(phi), 0.0, -std::sin(phi)};
+    for (std::uint32_t j = 0; j < m; ++j) {
+      const double th = 2.0 * kPi * j / m;
+      mesh.points.push_back({c.x + r_bar * std::cos(th) * nrm.x, r_bar * std::sin(th), c.z + r_bar * std::cos(th) * nrm.z});
+    }
+  }
+  auto id = [&](std::uint32_t i, std::uint32_t j) { return i * m + (j % m); };
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t j = 0; j < m; ++j) {
+      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  for (const std::uint32_t i : {0u, n}) {  // caps: fans round the ends' centres
+    core::Vec3 c{0, 0, 0};
+    for (std::uint32_t j = 0; j < m; ++j) c = c + core::Vec3{mesh.points[id(i, j)].x, mesh.points[id(i, j)].y, mesh.points[id(i, j)].z};
+    c = c / static_cast<double>(m);
+    const auto centre = static_cast<std::uint32_t>(mesh.points.size());
+    mesh.points.push_back({c.x, c.y, c.z});
+    for (std::uint32_t j = 0; j < m; ++j) {
+      if (i == 0) mesh.triangles.push_back({centre, id(i, j + 1), id(i, j)});
+      else mesh.triangles.push_back({centre, id(i, j), id(i, j + 1)});
+    }
+  }
+  if (signed_volume_of(mesh) < 0.0) {
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  }
+  return mesh;
+}
+
+// A prism: the simple polygon OUTLINE (x, z pairs, either winding) in the XZ plane, extruded
+// along Y from 0 to WIDTH. Ear clipping for the two faces. Closed and outward.
+inline RawMesh prism_xz(const std::vector<std::array<double, 2>>& outline, double width) {
+  RawMesh mesh;
+  const auto n = static_cast<std::uint32_t>(outline.size());
+  for (const double y : {0.0, width}) {
+    for (const auto& p : outline) mesh.points.push_back({p[0], y, p[1]});
+  }
+  double area = 0.0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto& a = outline[i];
+    const auto& b = outline[(i + 1) % n];
+    area += a[0] * b[1] - b[0] * a[1];
+  }
+  const double sgn = area > 0.0 ? 1.0 : -1.0;
+  auto cross = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    return sgn * ((outline[b][0] - outline[a][0]) * (outline[c][1] - outline[a][1]) -
+                  (outline[b][1] - outline[a][1]) * (outline[c][0] - outline[a][0]));
+  };
+  std::vector<std::uint32_t> left(n);
+  for (std::uint32_t i = 0; i < n; ++i) left[i] = i;
+  std::vector<std::array<std::uint32_t, 3>> ears;
+  while (left.size() > 3) {
+    bool cut = false;
+    for (std::size_t k = 0; k < left.size() && !cut; ++k) {
+      const std::uint32_t a = left[(k + left.size() - 1) % left.size()], b = left[k], c = left[(k + 1) % left.size()];
+      if (cross(a, b, c) <= 0.0) continue;
+      bool inside = false;
+      for (const std::uint32_t q : left) {
+        if (q == a || q == b || q == c) continue;
+        inside = inside || (cross(a, b, q) >= 0.0 && cross(b, c, q) >= 0.0 && cross(c, a, q) >= 0.0);
+      }
+      if (inside) continue;
+      ears.push_back({a, b, c});
+      left.erase(left.begin() + static_cast<std::ptrdiff_t>(k));
+      cut = true;
+    }
+    if (!cut) break;
+  }
+  ears.push_back({left[0], left[1], left[2]});
+  for (const auto& e : ears) {
+    mesh.triangles.push_back({e[0], e[1], e[2]});          // y = 0
+    mesh.triangles.push_back({e[0] + n, e[2] + n, e[1] + n});  // y = width
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t j = (i + 1) % n;
+    mesh.triangles.push_back({i, j, j + n});
+    mesh.triangles.push_back({i, j + n, i + n});
+  }
+  if (signed_volume_of(mesh) < 0.0) {
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   }
   return mesh;
 }

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+
+#include "planner/support.h"
 
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/motion/machine.h"
@@ -94,6 +97,39 @@ TEST(SupportCheck, ARegionsFirstLayerOverNothingHangs) {
   EXPECT_NEAR(first->area_mm2, 200.0, 1e-6);
   EXPECT_FALSE(plan.placed_regions[1].support_free);
   EXPECT_TRUE(plan.placed_regions[0].support_free);
+}
+
+TEST(SupportCheck, TheTiltedTorchStepIsBoundedByTheBead) {
+  // α = 30°, a torch leaning 60° more: t·tan(90°) would be unbounded; the bead bounds it.
+  const double t = 0.6, bead = 0.9, share = 0.5;
+  EXPECT_DOUBLE_EQ(detail::tilted_step_mm(t, 90.0, 30.0, share * bead), share * bead);
+  EXPECT_DOUBLE_EQ(detail::tilted_step_mm(t, 89.9, 30.0, share * bead), share * bead);
+  // Untilted, the plain t·tan α, even when the bead would allow more.
+  EXPECT_NEAR(detail::tilted_step_mm(t, 30.0, 30.0, share * bead), t * std::tan(kPi / 6.0), 1e-12);
+  // Leaning a little: t·tan(α + θ) while below the bound.
+  EXPECT_NEAR(detail::tilted_step_mm(0.3, 40.0, 30.0, share * bead), 0.3 * std::tan(40.0 * kPi / 180.0), 1e-12);
+  // Every share up to 1 keeps it at most a bead.
+  for (const double s : {0.1, 0.5, 1.0}) EXPECT_LE(detail::tilted_step_mm(0.7, 89.0, 30.0, s * bead), bead);
+}
+
+TEST(SupportCheck, ARoundBarBentThrough110DegreesIsNotSupportFreeOnPlanarLayers) {
+  // Its end leans 110° from vertical: no torch tilt lets a planar layer overhang its layer below by
+  // more than half a bead, so the outer bend hangs. Other bends and sizes: the same.
+  auto machine = motion::parse_machine(motion::default_machine_json(), "default");
+  auto process = motion::parse_process(motion::default_process_json(), "default");
+  ASSERT_TRUE(machine.ok() && process.ok());
+  for (const auto& [bend, bar, sweep] : {std::tuple{30.0, 5.0, 110.0}, std::tuple{45.0, 8.0, 100.0}, std::tuple{25.0, 4.0, 130.0}}) {
+    const mesh::RepairedMesh m = repaired(polyaxis::test::bent_bar(bend, bar, sweep, 48, 24));
+    auto plan = make_plan(m, machine.value(), process.value(), PlanOptions{});
+    ASSERT_TRUE(plan.ok()) << plan.error().message;
+    EXPECT_GT(plan.value().unsupported_area_mm2, 10.0) << bend << " " << bar << " " << sweep;
+    EXPECT_GT(plan.value().max_tilt_deg, 30.0);  // the torch does tilt on the outer bend
+  }
+  // Bent through 20° only, the lean stays within what the tilted torch allows.
+  const mesh::RepairedMesh gentle = repaired(polyaxis::test::bent_bar(60.0, 5.0, 20.0, 48, 24));
+  auto plan = make_plan(gentle, machine.value(), process.value(), PlanOptions{});
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  EXPECT_EQ(plan.value().unsupported_area_mm2, 0.0);
 }
 
 }  // namespace
