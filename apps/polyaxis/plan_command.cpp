@@ -163,6 +163,9 @@ Runner add_plan_command(CLI::App& app) {
                   "support-free, keeping the better")
       ->capture_default_str()->check(CLI::IsMember({"single", "decompose", "auto"}));
   cmd->add_flag("--decompose", o->decompose, "Same as --strategy decompose");
+  cmd->add_option("--decompose-budget", o->part_plan.decompose_budget_facet_visits,
+                  "Work a decomposition may do, in facet visits (a few seconds by default); 0: no limit")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e15));
   add_root_base_option(*cmd, o->root_base);
   cmd->add_option("--perimeters", o->part_plan.plan.perimeters, "Perimeters per island")->capture_default_str()->check(CLI::Range(0, 100));
   cmd->add_option("--path-tolerance-mm", o->chordal_mm, "Largest tool-tip deviation from the path between G-code blocks, mm")

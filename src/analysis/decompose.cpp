@@ -409,6 +409,13 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   // Greedy, best first: every round screens every open link's candidates in the region holding the
   // link's branch, cuts the link whose best candidate removes the most overhang, and stops when no
   // split removes any.
+  // The work budget (DecomposeOptions::work_budget_facet_visits): false once it is spent.
+  auto spend = [&](double visits) {
+    if (tree.budget_exhausted) return false;
+    tree.work_facet_visits += visits;
+    if (options.work_budget_facet_visits > 0.0 && tree.work_facet_visits > options.work_budget_facet_visits) tree.budget_exhausted = true;
+    return !tree.budget_exhausted;
+  };
   std::vector<SplitLink> links = split_links(axis);
   auto progress = std::make_unique<core::Progress>("decompose", links.size());  // links decided
   for (;;) {
@@ -429,6 +436,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       const Region& h = tree.regions[host];
       const detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal};
       std::vector<Candidate> cands = candidates_for(s, mesh, faces, axis.increment_mm, options.face_normal_tolerance_deg, alpha);
+      if (!spend(static_cast<double>(cands.size() + s.targets.size()) * static_cast<double>(h.mesh.triangles.size()))) break;
       const std::vector<std::uint32_t> seeds = detail::nearest_facets(h.mesh, s.targets);
       // Candidates are screened in parallel; each writes only its own result.
       tbb::parallel_for(std::size_t{0}, cands.size(), [&](std::size_t k) {
@@ -454,6 +462,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     const Candidate* used = nullptr;
     for (std::size_t k = 0; k < best_candidates.size() && k < kExactTries; ++k) {
       const Candidate& c = best_candidates[k];
+      if (!spend(kExactCutVisitsPerFacet * static_cast<double>(tree.regions[host].mesh.triangles.size()))) break;
       const Vec3 starts[] = {c.normal, s.dir, s.branch_dir, c.screened.child_direction};
       auto e = exact_split(tree.regions[host], c.point, c.normal, s.targets, starts, alpha);
       if (e && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
@@ -472,7 +481,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   progress.reset();  // the links' stage ends here
   core::Progress patch_progress("overhang patches", 0);  // patches tried
   std::uint64_t patches_tried = 0;
-  for (int splits = 0; splits < kMaxPatchSplits;) {
+  for (int splits = 0; splits < kMaxPatchSplits && !tree.budget_exhausted;) {
     bool split = false;
     for (std::size_t host = 0; host < tree.regions.size() && !split; ++host) {
       if (overhang[host] <= 0.0) continue;
@@ -484,6 +493,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       const auto patches = detail::overhang_patches(h.mesh, topology[host], h.build_direction, alpha, h.base_point, h.base_normal);
       for (std::size_t p = 0; p < patches.size() && p < kMaxPatchesPerRegion && !split; ++p) {
         patch_progress.update(++patches_tried);
+        if (!spend(detail::kPatchScreenBudget)) break;
         const std::vector<detail::PatchCandidate> cands = detail::patch_candidates(hr, patches[p], axis.increment_mm, alpha);
         const std::vector<Vec3> targets = detail::patch_targets(h.mesh, patches[p]);
         std::optional<ExactSplit> chosen;
@@ -491,6 +501,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
         for (std::size_t k = 0; k < cands.size() && k < kExactTries; ++k) {
           const detail::PatchCandidate& c = cands[k];
           if (c.screened.total() >= overhang[host] - kMinGainMm2) break;
+          if (!spend(kExactCutVisitsPerFacet * static_cast<double>(h.mesh.triangles.size()))) break;
           const Vec3 starts[] = {c.normal, c.screened.child_direction};
           auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, ExactRules{true, hr.keep_base});
           if (e && e->child_mm2 == 0.0 && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {

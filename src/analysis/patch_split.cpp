@@ -18,7 +18,7 @@ constexpr double kPatchMarginDeg = 2.0;
 constexpr double kPatchClearMm = 0.01;
 constexpr double kPatchStepFactors[] = {0.5, 2.0};
 // Facet visits allowed for screening one patch's candidates (each visits the host's facets once).
-constexpr double kPatchScreenBudget = 2e7;
+
 constexpr std::size_t kMinPatchCandidates = 24;
 constexpr std::size_t kMaxPatchCandidates = 120;
 constexpr std::size_t kMaxTargets = 8;

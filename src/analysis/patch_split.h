@@ -9,6 +9,9 @@
 
 namespace polyaxis::analysis::detail {
 
+// Facet visits the screening of one patch's candidates is aimed at (fewer candidates on large meshes).
+inline constexpr double kPatchScreenBudget = 2e7;
+
 struct PatchCandidate {
   Vec3 point, normal;  // the plane; normal towards the child, which holds the patch
   Screened screened;

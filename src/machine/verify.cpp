@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <array>
 #include <unordered_map>
+
+#include <tbb/parallel_for.h>
 
 #include "gcode_walk.h"
 #include "polyaxis/motion/kinematics.h"
@@ -20,6 +23,9 @@ constexpr std::size_t kMaxProblems = 10;
 // Samples along a move: at most this far apart (share of the bead) and this much rotation apart.
 constexpr double kSampleBeadShare = 0.25;
 constexpr double kSampleDeg = 1.0;
+// Of a layer's deposit samples every this many is kept as support for later layers: 2 keeps them
+// half a bead apart, within the spacing term of the lateral allowance.
+constexpr std::size_t kStoredSampleStride = 2;
 
 MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
   return {a.x_mm + (b.x_mm - a.x_mm) * u, a.y_mm + (b.y_mm - a.y_mm) * u, a.z_mm + (b.z_mm - a.z_mm) * u,
@@ -30,18 +36,29 @@ MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
 class DepositGrid {
  public:
   explicit DepositGrid(double cell_mm) : cell_(cell_mm) {}
-  void add(Vec3 p) { cells_[key(cell(p.x), cell(p.y), cell(p.z))].push_back(p); }
+  void add(Vec3 p) {
+    cells_[key(cell(p.x), cell(p.y), cell(p.z))].push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
+  }
+  // True when PRED holds for a stored point in the cells around P; the cell holding HINT (where
+  // a match is most likely) is searched first.
   template <typename Pred>
-  bool any(Vec3 p, Pred pred) const {
+  bool any(Vec3 p, Vec3 hint, Pred pred) const {
+    auto visit = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+      const auto it = cells_.find(key(x, y, z));
+      if (it == cells_.end()) return false;
+      for (const auto& q : it->second) {
+        if (pred(Vec3{q[0], q[1], q[2]})) return true;
+      }
+      return false;
+    };
+    const std::int64_t hx = cell(hint.x), hy = cell(hint.y), hz = cell(hint.z);
+    if (visit(hx, hy, hz)) return true;
     const std::int64_t cx = cell(p.x), cy = cell(p.y), cz = cell(p.z);
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find(key(cx + dx, cy + dy, cz + dz));
-          if (it == cells_.end()) continue;
-          for (const Vec3& q : it->second) {
-            if (pred(q)) return true;
-          }
+          if (cx + dx == hx && cy + dy == hy && cz + dz == hz) continue;
+          if (visit(cx + dx, cy + dy, cz + dz)) return true;
         }
       }
     }
@@ -56,7 +73,7 @@ class DepositGrid {
     return b(x) << 42 | b(y) << 21 | b(z);
   }
   double cell_;
-  std::unordered_map<std::uint64_t, std::vector<Vec3>> cells_;
+  std::unordered_map<std::uint64_t, std::vector<std::array<float, 3>>> cells_;
 };
 
 // A layer's deposit samples, held until the layer ends: its plane is fitted to all of them.
@@ -158,7 +175,7 @@ core::Result<BuildCheck> verify_build(const motion::MachineConfig& m, const moti
     const bool over_plate = tip.x >= plate.x_min_mm && tip.x <= plate.x_max_mm && tip.y >= plate.y_min_mm && tip.y <= plate.y_max_mm;
     const double above = tip.z - plate.top_z_mm;
     if (over_plate && above >= -kClearanceSlackMm && above <= h_max) return true;
-    return grid.any(tip, [&](Vec3 q) {
+    return grid.any(tip, tip - n * (0.5 * h_max), [&](Vec3 q) {
       const Vec3 d = tip - q;
       const double h = core::dot(d, n);
       return h >= -kClearanceSlackMm && h <= h_max && core::norm(d - n * h) <= lateral_max;
@@ -167,8 +184,12 @@ core::Result<BuildCheck> verify_build(const motion::MachineConfig& m, const moti
   auto end_layer = [&] {
     if (this_layer.empty()) return;
     const Vec3 n = layer_normal(this_layer, spacing);
-    for (const Pending& p : this_layer) {
-      if (grounded(p.tip, n)) continue;
+    // The grid is only read while a layer is checked: its samples in parallel.
+    std::vector<char> ok(this_layer.size());
+    tbb::parallel_for(std::size_t{0}, this_layer.size(), [&](std::size_t i) { ok[i] = grounded(this_layer[i].tip, n) ? 1 : 0; });
+    for (std::size_t i = 0; i < this_layer.size(); ++i) {
+      if (ok[i]) continue;
+      const Pending& p = this_layer[i];
       ++out.ungrounded_samples;
       if (p.first_of_region) out.mid_air_regions.push_back(p.region);
       if (out.ungrounded_samples <= 3) {
@@ -177,11 +198,12 @@ core::Result<BuildCheck> verify_build(const motion::MachineConfig& m, const moti
                             p.tip.x, p.tip.y, p.tip.z, h_max, lateral_max));
       }
     }
-    for (const Pending& p : this_layer) grid.add(p.tip);
+    // Every other sample is kept as support (kStoredSampleStride): the lateral allowance's spacing
+    // term covers the gap.
+    for (std::size_t i = 0; i < this_layer.size(); i += kStoredSampleStride) grid.add(this_layer[i].tip);
     this_layer.clear();
   };
-  auto check_sample = [&](const detail::WalkMove& mv, const MachinePose& pose) {
-    const motion::MachineToolPose tp = motion::forward(m, pose);
+  auto check_sample = [&](const detail::WalkMove& mv, const motion::MachineToolPose& tp) {
     ++out.samples;
     const double c = std::min(motion::head_clearance_mm(model, tp.tip_part_mm, tp.tool_axis_part),
                               motion::tip_clearance_mm(model, tp.tip_part_mm));
@@ -204,18 +226,22 @@ core::Result<BuildCheck> verify_build(const motion::MachineConfig& m, const moti
   };
   cb.move = [&](const detail::WalkMove& mv) {
     if (mv.layer != current_layer) end_layer(), current_layer = mv.layer;
-    if (!mv.from_known) return check_sample(mv, mv.to);
+    if (!mv.from_known) return check_sample(mv, motion::forward(m, mv.to));
     const Vec3 a = motion::forward(m, mv.from).tip_part_mm, b = motion::forward(m, mv.to).tip_part_mm;
     const double rot = std::max(mv.d_tilt_deg, mv.d_c_deg);
     const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(b - a) / spacing, rot / kSampleDeg))));
     double length = 0.0;
     Vec3 last = a;
+    // With the rotary axes still, forward kinematics is affine in the linear axes: the tip moves
+    // straight from A to B with one tool axis.
+    const bool still = mv.d_tilt_deg == 0.0 && mv.d_c_deg == 0.0;
+    const Vec3 fixed_axis = still ? motion::forward(m, mv.to).tool_axis_part : Vec3{};
     for (int k = 1; k <= pieces; ++k) {
-      const MachinePose pose = lerp(mv.from, mv.to, static_cast<double>(k) / pieces);
-      const Vec3 tip = motion::forward(m, pose).tip_part_mm;
-      length += core::norm(tip - last);
-      last = tip;
-      check_sample(mv, pose);
+      const double u = static_cast<double>(k) / pieces;
+      const motion::MachineToolPose tp = still ? motion::MachineToolPose{a + (b - a) * u, fixed_axis} : motion::forward(m, lerp(mv.from, mv.to, u));
+      length += core::norm(tp.tip_part_mm - last);
+      last = tp.tip_part_mm;
+      check_sample(mv, tp);
     }
     if (mv.process_on && !mv.rapid && mv.time_min > 0.0) {
       const double seconds = mv.time_min * 60.0;

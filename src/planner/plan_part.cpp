@@ -67,10 +67,19 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const mo
   dopt.root_direction = root_dir.value();
   dopt.root_base = root_base;
   dopt.self_supporting_deg = process.self_supporting_deg;
+  dopt.work_budget_facet_visits = o.decompose_budget_facet_visits;
   auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
   if (!tree) return tree.error();
+  if (o.strategy == Strategy::kAuto && tree.value().regions.size() < 2) {
+    return core::make_error(core::ErrorCode::kInfeasible, "it finds the part one region: nothing to split");
+  }
   Candidate c;
   c.strategy = Strategy::kDecompose;
+  if (tree.value().budget_exhausted) {
+    c.warnings.push_back(fmt::format("the decomposition stopped at its work budget ({:.0e} facet visits) with {} regions; "
+                                     "--decompose-budget 0 lets it run to the end",
+                                     o.decompose_budget_facet_visits, tree.value().regions.size()));
+  }
   std::vector<PlanRegion> regions;
   const double part_volume = std::abs(mesh::signed_volume(part.mesh));
   for (const analysis::Region& r : tree.value().regions) {  // parents come before children

@@ -40,6 +40,8 @@ struct BaseFace {
 struct RegionTree {
   std::vector<Region> regions;  // in build order: every region after those it rests on; regions[0] is the root
   std::vector<BaseFace> faces;  // the part's planar faces of at least kMinBaseFaceMm2, by id
+  bool budget_exhausted = false;  // DecomposeOptions::work_budget_facet_visits ran out
+  double work_facet_visits = 0.0; // the work done, in the same units
 };
 
 // Planar faces smaller than this are not listed in RegionTree::faces (nor accepted as a root base).
@@ -72,7 +74,15 @@ struct DecomposeOptions {
   RootBase root_base;
   double self_supporting_deg = 30.0;
   double face_normal_tolerance_deg = 10.0;  // Ruan: the splitting face's normal within 10° of the link
+  // Work allowed, in facet visits (a screened candidate costs the host's facets, an exact cut
+  // kExactCutVisitsPerFacet per facet); 0: no limit. When it runs out, splitting stops with the
+  // regions found so far and RegionTree::budget_exhausted is set. A count, not a time: the result
+  // is the same on any machine and at any thread count.
+  double work_budget_facet_visits = 0.0;
 };
+
+// What one exact cut (CGAL, exact kernel) costs against the work budget, per facet of the region cut.
+inline constexpr double kExactCutVisitsPerFacet = 2000.0;
 
 // Splits MESH into regions along AXIS (Ruan 2006 §4.1, checked by overhang; docs/analyze.md):
 //  * The root is built along root_direction from the plate: the downward planar face where the

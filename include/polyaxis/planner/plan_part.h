@@ -16,6 +16,9 @@
 
 namespace polyaxis::planner {
 
+// The default work budget of one decomposition in plan_part, in facet visits.
+inline constexpr double kDefaultDecomposeBudget = 3e8;
+
 enum class Strategy {
   kSingle,     // one region along `direction`
   kDecompose,  // analysis::decompose's regions, each along its own direction
@@ -28,6 +31,9 @@ struct PlanPartOptions {
   analysis::RootBase root_base;  // where the root region stands (decompose; auto tries kLowest too)
   PlanOptions plan;              // perimeters, tilt, retract, threads (plan.direction is set from `direction`)
   machine::GcodeOptions gcode;   // path tolerance
+  // Work each decomposition may do (analysis::DecomposeOptions::work_budget_facet_visits): a few
+  // seconds on one core; 0 for no limit. Splitting stops there with the regions found so far.
+  double decompose_budget_facet_visits = kDefaultDecomposeBudget;
 };
 
 struct PlanPartResult {
