@@ -14,6 +14,8 @@ packages=(
   libcli11-dev libfmt-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # real meshes for the end-to-end plans (OpenCASCADE sample data; LinuxCNC ships machine models)
+  occt-misc
   # a real G-code interpreter (rs274) for tests/unit/machine/test_rs274.cpp
   linuxcnc-uspace
   # a real browser for the report viewer's tests (tests/browser)

@@ -24,6 +24,8 @@ constexpr double kRotaryShare = 0.5;
 // A placed region reaching further than this share of the thinnest layer below the plate's top
 // goes into the plate; less is inside the first layer's own rounding of the base.
 constexpr double kBelowPlateLayerShare = 0.5;
+// Halvings of a move whose axis turn brings the head too close to the plate (guard_axes).
+constexpr int kMaxGuardDepth = 8;
 // A layer whose bottom is within this of the plate's top is laid on the plate.
 constexpr double kOnPlateMm = 1e-6;
 
@@ -52,31 +54,70 @@ core::Status place_checks(const std::vector<PlanRegion>& regions, const motion::
   return detail::check_region_travel(regions, machine);
 }
 
+// Adds to OUT the guarded points strictly between A and B needed for the head to stay clear of
+// the plate and the table along the move (tip straight, axis along the great circle), checked at
+// a quarter, a half and three quarters; at most kMaxGuardDepth halvings.
+template <typename Guard>
+core::Status refine_between(const motion::BuildModel& model, const toolpath::PathPoint& a, const toolpath::PathPoint& b, int depth,
+                            std::vector<toolpath::PathPoint>& out, Guard& guard) {
+  if (depth >= kMaxGuardDepth || core::norm(a.tool_axis - b.tool_axis) < 1e-9) return {};
+  bool clear = true;
+  for (const double u : {0.25, 0.5, 0.75}) {
+    const Vec3 tip = a.position_mm + (b.position_mm - a.position_mm) * u;
+    const Vec3 axis = core::normalized(a.tool_axis * (1.0 - u) + b.tool_axis * u);
+    clear = clear && motion::head_clearance_mm(model, tip, axis) >= 0.0;
+  }
+  if (clear) return {};
+  toolpath::PathPoint mid = b;
+  mid.position_mm = (a.position_mm + b.position_mm) * 0.5;
+  mid.tool_axis = core::normalized(a.tool_axis + b.tool_axis);
+  if (auto s = guard(mid); !s) return s;
+  if (auto s = refine_between(model, a, mid, depth + 1, out, guard); !s) return s;
+  out.push_back(mid);
+  return refine_between(model, mid, b, depth + 1, out, guard);
+}
+
 // Keeps every tool axis of REGION's PATHS inside the machine's reach with the head clear of the
 // plate and the table; the layers laid on the plate get the torch along the layer's normal.
-core::Status guard_axes(Plan& plan, const motion::MachineConfig& machine, const PlanOptions& options, const PlanRegion& region, const slicing::SliceResult& layers,
-                        std::vector<toolpath::LayerToolpaths>& paths) {
+core::Status guard_axes(Plan& plan, const motion::MachineConfig& machine, const PlanOptions& options, const PlanRegion& region,
+                        const slicing::SliceResult& layers, std::vector<toolpath::LayerToolpaths>& paths) {
   const double reach = detail::reach_rad(machine);
   for (std::size_t k = 0; k < paths.size(); ++k) {
     const slicing::Layer& layer = layers.layers[k];
     const bool on_plate = layer.frame.d.z > 1.0 - 1e-9 && std::abs(layer.height_mm - layer.below_mm) <= kOnPlateMm;
+    auto guard = [&](toolpath::PathPoint& p) -> core::Status {
+      Vec3 axis = on_plate ? layer.frame.d : p.tool_axis;
+      if (!detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, layer.frame.d,
+                              axis)) {
+        return core::make_error(
+            core::ErrorCode::kMachineLimit,
+            fmt::format("region {} layer {}: at ({:.2f}, {:.2f}, {:.2f}) on the table no tool axis within {:.0f} deg of the build "
+                        "direction ({:.3f}, {:.3f}, {:.3f}) keeps the head {:.1f} mm clear of the plate and the table (nozzle "
+                        "cylinder r {:.1f} mm at {:.1f} mm) inside the machine's limits: a slimmer head (nozzle.cylinder_radius_mm), "
+                        "a region built further from the plate or --strategy single would make it buildable",
+                        region.id, layer.index, p.position_mm.x, p.position_mm.y, p.position_mm.z, toolpath::kMaxTiltRad * 180.0 / kPi,
+                        region.direction.x, region.direction.y, region.direction.z, options.head_clearance_mm,
+                        machine.nozzle.cylinder_radius_mm, machine.nozzle.cone_height_mm));
+      }
+      if (core::norm(p.tool_axis - axis) > 1e-12) ++plan.axes_turned;
+      p.tool_axis = axis;
+      return {};
+    };
     for (toolpath::Path& path : paths[k].paths) {
       for (toolpath::PathPoint& p : path.points) {
-        Vec3 axis = on_plate ? layer.frame.d : p.tool_axis;
-        if (!detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, layer.frame.d, axis)) {
-          return core::make_error(
-              core::ErrorCode::kMachineLimit,
-              fmt::format("region {} layer {}: at ({:.2f}, {:.2f}, {:.2f}) on the table no tool axis within {:.0f} deg of the build "
-                          "direction ({:.3f}, {:.3f}, {:.3f}) keeps the head {:.1f} mm clear of the plate and the table (nozzle "
-                          "cylinder r {:.1f} mm at {:.1f} mm): a slimmer head (nozzle.cylinder_radius_mm), a region built further from "
-                          "the plate or --strategy single would make it buildable",
-                          region.id, layer.index, p.position_mm.x, p.position_mm.y, p.position_mm.z, toolpath::kMaxTiltRad * 180.0 / kPi,
-                          region.direction.x, region.direction.y, region.direction.z, options.head_clearance_mm,
-                          machine.nozzle.cylinder_radius_mm, machine.nozzle.cone_height_mm));
-        }
-        if (core::norm(p.tool_axis - axis) > 1e-12) ++plan.axes_turned;
-        p.tool_axis = axis;
+        if (auto s = guard(p); !s) return s;
       }
+      // Between two guarded points the axis turns along the way: where the head would come too
+      // close in between, a guarded point is added at the middle (the path keeps its shape).
+      std::vector<toolpath::PathPoint> refined;
+      refined.reserve(path.points.size());
+      for (std::size_t i = 0; i < path.points.size(); ++i) {
+        if (i > 0) {
+          if (auto s = refine_between(plan.build_model, path.points[i - 1], path.points[i], 0, refined, guard); !s) return s;
+        }
+        refined.push_back(path.points[i]);
+      }
+      path.points = std::move(refined);
     }
   }
   return {};

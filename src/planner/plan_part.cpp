@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "polyaxis/mesh/properties.h"
+#include "polyaxis/mesh/self_intersections.h"
 #include <cmath>
 
 namespace polyaxis::planner {
@@ -57,6 +58,13 @@ core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const motion
 core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
                                         const motion::ProcessConfig& process, const PlanPartOptions& o,
                                         const analysis::RootBase& root_base) {
+  // The decomposition's exact cuts (CGAL corefinement) need a solid whose surface does not cross
+  // itself; on one that does they are undefined and can run for minutes.
+  const std::size_t crossing = part.self_intersecting.empty() ? mesh::self_intersecting_faces(part.mesh).size() : part.self_intersecting.size();
+  if (crossing > 0) {
+    return core::make_error(core::ErrorCode::kInfeasible,
+                            fmt::format("the part's surface crosses itself ({} faces): the cuts between regions need a clean solid", crossing));
+  }
   auto root_dir = analysis::root_direction(part.mesh, root_base, o.direction);
   if (!root_dir) return root_dir.error();
   analysis::CentroidalAxisOptions axis_options;
@@ -165,35 +173,11 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const motion::Mac
   return std::move(*best);
 }
 
-}  // namespace
-
-const char* strategy_name(Strategy s) {
-  switch (s) {
-    case Strategy::kSingle: return "single";
-    case Strategy::kDecompose: return "decompose";
-    case Strategy::kAuto: return "auto";
-  }
-  return "?";
-}
-
-core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
-                                       const motion::ProcessConfig& process, const PlanPartOptions& options) {
-  PlanPartResult out;
-  auto chosen = choose(part, machine, process, options, out.choice);
-  if (!chosen) return chosen.error();
-  out.plan = std::move(chosen.value().plan);
-  out.axis = std::move(chosen.value().axis);
-  out.strategy_used = chosen.value().strategy;
-  out.warnings = std::move(chosen.value().warnings);
+// The program of a chosen plan: G-code, its simulation against the plan and its verification
+// against the build model; OUT.plan is set.
+core::Status program_of(const motion::MachineConfig& machine, const motion::ProcessConfig& process, const PlanPartOptions& options,
+                        PlanPartResult& out) {
   const Plan& plan = out.plan;
-  if (plan.thin_regions > 0) {
-    out.warnings.push_back(fmt::format("{} regions thinner than a bead ({:.1f} mm2) get no path; see plan.json", plan.thin_regions,
-                                       plan.thin_area_mm2));
-  }
-  if (plan.unsupported_area_mm2 > 0.0) {
-    out.warnings.push_back(fmt::format("the plan is not support-free: {:.1f} mm2 unsupported (report.html shows the pieces in red)",
-                                       plan.unsupported_area_mm2));
-  }
   auto t0 = Clock::now();
   auto gcode = machine::write_gcode(machine, process, plan.program, options.gcode);
   if (!gcode) return gcode.error();
@@ -214,6 +198,57 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mot
   if (!check) return check.error();
   out.check = std::move(check.value());
   out.verify_s = since(t0);
+  return {};
+}
+
+}  // namespace
+
+const char* strategy_name(Strategy s) {
+  switch (s) {
+    case Strategy::kSingle: return "single";
+    case Strategy::kDecompose: return "decompose";
+    case Strategy::kAuto: return "auto";
+  }
+  return "?";
+}
+
+core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
+                                       const motion::ProcessConfig& process, const PlanPartOptions& options) {
+  PlanPartResult out;
+  auto chosen = choose(part, machine, process, options, out.choice);
+  if (!chosen) return chosen.error();
+  out.plan = std::move(chosen.value().plan);
+  out.axis = std::move(chosen.value().axis);
+  out.strategy_used = chosen.value().strategy;
+  out.warnings = std::move(chosen.value().warnings);
+  if (auto s = program_of(machine, process, options, out); !s) return s.error();
+  if (options.strategy == Strategy::kAuto && out.strategy_used == Strategy::kDecompose && !out.check.mid_air_regions.empty()) {
+    // Read back, a region of the decomposition starts in mid-air: one direction instead, which
+    // starts on the plate.
+    auto single = plan_single(part, machine, process, options);
+    if (single) {
+      PlanPartResult alt;
+      alt.plan = std::move(single.value().plan);
+      alt.strategy_used = Strategy::kSingle;
+      if (program_of(machine, process, options, alt)) {
+        alt.choice = fmt::format("one build direction ({:.1f} mm2 unsupported): read back, the decomposition's region {} starts in mid-air",
+                                 alt.plan.unsupported_area_mm2, out.check.mid_air_regions.front());
+        out = std::move(alt);
+      }
+    }
+  }
+  const Plan& plan = out.plan;
+  if (plan.thin_regions > 0) {
+    out.warnings.push_back(fmt::format("{} regions thinner than a bead ({:.1f} mm2) get no path; see plan.json", plan.thin_regions,
+                                       plan.thin_area_mm2));
+  }
+  if (plan.unsupported_area_mm2 > 0.0) {
+    out.warnings.push_back(fmt::format("the plan is not support-free: {:.1f} mm2 unsupported (report.html shows the pieces in red)",
+                                       plan.unsupported_area_mm2));
+  }
+  if (!out.check.mid_air_regions.empty()) {
+    out.warnings.push_back(fmt::format("read back, region {} starts in mid-air: its first bead rests on nothing", out.check.mid_air_regions.front()));
+  }
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "support/cli.h"
+#include "support/meshes.h"
 #include "support/readback.h"
 
 namespace polyaxis::test {
@@ -366,6 +367,88 @@ TEST(PlanErrors, MachineTooSmallExitsFiveAndWritesNothing) {
   const auto r = run_cli("plan '" + part + "' --set machine.limits.x.min=-5 --set machine.limits.x.max=5 -o '" + dir.path().string() + "'");
   EXPECT_EQ(r.exit_code, 5) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "l_block.ngc"));
+}
+
+// Parts made here, not the reference parts: L and T shapes of other sizes and proportions, and a
+// bar leaning past the self-supporting angle on a plate. `plan` with no flag must choose a
+// support-free plan, and the program read back must hold (check_readback).
+struct Variant {
+  const char* name;
+  std::vector<std::array<double, 2>> outline;  // x, z
+  double width;
+};
+
+TEST(PlanVariants, DefaultPlanOfPartsMadeHereIsSupportFreeAndSound) {
+  const std::vector<Variant> variants = {
+      {"l_short", {{0, 0}, {15, 0}, {15, 30}, {45, 30}, {45, 45}, {0, 45}}, 15},           // arm 30 long at z 30–45
+      {"l_long_thin", {{0, 0}, {12, 0}, {12, 50}, {70, 50}, {70, 62}, {0, 62}}, 10},       // arm 58 long
+      {"t_both_ways", {{0, 0}, {16, 0}, {16, 35}, {40, 35}, {40, 50}, {-24, 50}, {-24, 35}, {0, 35}}, 14},
+      {"leaning_bar", {{0, 0}, {50, 0}, {50, 6}, {29.4, 6}, {29.4 + 40 * std::sin(0.7), 6 + 40 * std::cos(0.7)},
+                       {17.4 + 40 * std::sin(0.7), 6 + 40 * std::cos(0.7)}, {17.4, 6}, {0, 6}}, 20},  // 40° from vertical
+  };
+  for (const Variant& v : variants) {
+    SCOPED_TRACE(v.name);
+    TempDir dir;
+    const auto stl = dir / (std::string(v.name) + ".stl");
+    write_file(stl, binary_stl(prism_xz(v.outline, v.width)));
+    const auto single = run_cli("plan '" + stl.string() + "' --strategy single --no-html -o '" + (dir / "single").string() + "'");
+    ASSERT_EQ(single.exit_code, 0) << single.err;
+    EXPECT_FALSE(read_json(dir / "single" / "report.json")["support_free"].get<bool>());  // each one overhangs
+    const auto r = run_cli("plan '" + stl.string() + "' --no-html -o '" + dir.path().string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto report = read_json(dir / "report.json");
+    EXPECT_EQ(report["strategy"], "decompose") << report["strategy_reason"];
+    EXPECT_GE(report["regions"].get<int>(), 2);
+    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"] << " " << report["strategy_reason"];
+    EXPECT_NE(r.err.find("strategy decompose"), std::string::npos) << r.err;  // it says what it chose
+    check_readback(dir.path(), v.name);
+  }
+}
+
+// Real meshes from Debian's packages (OpenCASCADE's sample data, LinuxCNC's machine models) and a
+// 328k-triangle mesh made by bench/make_bench_mesh: `plan` with no flag gives a program the
+// read-back accepts (no head point in the plate or table, no region starting in mid-air, no stall,
+// every bead of a support-free plan grounded) or refuses before slicing, naming the limit.
+class PlanRealMesh : public testing::TestWithParam<const char*> {};
+
+TEST_P(PlanRealMesh, DefaultsGiveASoundProgramOrARefusalNamingTheLimit) {
+  const std::string path = GetParam();
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not installed (scripts/install-deps.sh installs it)";
+  TempDir dir;
+  const std::string name = std::filesystem::path(path).stem().string();
+  const auto r = run_cli("plan '" + path + "' --no-html -o '" + dir.path().string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  check_readback(dir.path(), name);
+  const auto sim = run_cli("simulate '" + (dir / (name + ".ngc")).string() + "' --plan '" + (dir / "plan.json").string() + "' --json");
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_LE(nlohmann::json::parse(sim.out)["max_tip_deviation_mm"].get<double>(), 0.01);
+}
+
+INSTANTIATE_TEST_SUITE_P(Debian, PlanRealMesh,
+                         testing::Values("/usr/share/opencascade/data/stl/shape.stl", "/usr/share/opencascade/data/stl/sh1.stl",
+                                         "/usr/share/opencascade/data/stl/sh2.stl", "/usr/share/opencascade/data/stl/motor.stl",
+                                         "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/vismach/VMC_toolchange/arm.stl",
+                                         "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/vismach/VMC_toolchange/head.stl",
+                                         "/usr/share/doc/linuxcnc/examples/sample-configs/sim/axis/vismach/melfa-sim/link5.stl",
+                                         POLYAXIS_BENCH_MESH_328K));
+
+TEST(PlanRealMesh, APartTooWideForTheMachineIsRefusedBeforeSlicingAndPlansOnOneThatReachesIt) {
+  // OpenCASCADE's propeller: 950 mm across, on a machine of ±400 mm travel.
+  const std::string path = "/usr/share/opencascade/data/stl/propeller.stl";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not installed";
+  TempDir dir;
+  const auto refused = run_cli("plan '" + path + "' --strategy single --no-html -o '" + dir.path().string() + "'");
+  EXPECT_EQ(refused.exit_code, 5) << refused.err;
+  EXPECT_NE(refused.err.find("region 0"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("travel"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("maximum 400 mm"), std::string::npos) << refused.err;
+  EXPECT_EQ(refused.err.find("slicing"), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "propeller.ngc"));
+  const auto big = run_cli("plan '" + path + "' --strategy single --no-html --set machine.limits.x.min=-1200 --set machine.limits.x.max=1200 "
+                           "--set machine.limits.y.min=-1200 --set machine.limits.y.max=1200 --set machine.table.radius_mm=800 -o '" +
+                           dir.path().string() + "'");
+  ASSERT_EQ(big.exit_code, 0) << big.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "propeller.ngc"));
 }
 
 }  // namespace
