@@ -23,9 +23,6 @@ constexpr std::size_t kMaxProblems = 10;
 // Samples along a move: at most this far apart (share of the bead) and this much rotation apart.
 constexpr double kSampleBeadShare = 0.25;
 constexpr double kSampleDeg = 1.0;
-// Of a layer's deposit samples every this many is kept as support for later layers: 2 keeps them
-// half a bead apart, within the spacing term of the lateral allowance.
-constexpr std::size_t kStoredSampleStride = 2;
 
 MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
   return {a.x_mm + (b.x_mm - a.x_mm) * u, a.y_mm + (b.y_mm - a.y_mm) * u, a.z_mm + (b.z_mm - a.z_mm) * u,
@@ -198,9 +195,7 @@ core::Result<BuildCheck> verify_build(const motion::MachineConfig& m, const moti
                             p.tip.x, p.tip.y, p.tip.z, h_max, lateral_max));
       }
     }
-    // Every other sample is kept as support (kStoredSampleStride): the lateral allowance's spacing
-    // term covers the gap.
-    for (std::size_t i = 0; i < this_layer.size(); i += kStoredSampleStride) grid.add(this_layer[i].tip);
+    for (const Pending& p : this_layer) grid.add(p.tip);
     this_layer.clear();
   };
   auto check_sample = [&](const detail::WalkMove& mv, const motion::MachineToolPose& tp) {
