@@ -54,7 +54,7 @@ int run_analyze(const AnalyzeOptions& o) {
 
   t = Clock::now();
   analysis::CentroidalAxisOptions axis_options;
-  axis_options.start_direction = nearest_major_direction(up);
+  axis_options.start_direction = analysis::nearest_major_direction(up);
   axis_options.break_angle_deg = o.break_angle_deg;
   auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
   if (!axis) return report_error(axis.error());

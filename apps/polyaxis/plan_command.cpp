@@ -3,7 +3,6 @@
 // (the 3-D viewer) and, with --svg, one SVG per layer.
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,12 +12,9 @@
 #include "config_options.h"
 #include "part_options.h"
 #include "root_base_option.h"
-#include "polyaxis/analysis/centroidal_axis.h"
-#include "polyaxis/analysis/decompose.h"
 #include "polyaxis/core/progress.h"
 #include "polyaxis/io/write_file.h"
 #include "polyaxis/machine/gcode.h"
-#include "polyaxis/machine/simulate.h"
 #include "polyaxis/planner/plan_part.h"
 #include "polyaxis/report/layers.h"
 #include "polyaxis/report/plan_files.h"

@@ -52,11 +52,4 @@ core::Result<analysis::RootBase> parse_root_base(const std::string& text) {
   return base;
 }
 
-core::Vec3 nearest_major_direction(core::Vec3 d) {
-  const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
-  if (az >= ax && az >= ay) return {0, 0, d.z < 0 ? -1.0 : 1.0};
-  if (ay >= ax) return {0, d.y < 0 ? -1.0 : 1.0, 0};
-  return {d.x < 0 ? -1.0 : 1.0, 0, 0};
-}
-
 }  // namespace polyaxis::app

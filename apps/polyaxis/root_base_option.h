@@ -15,7 +15,4 @@ void add_root_base_option(CLI::App& cmd, std::string& text);
 // the root's build direction). kUsage naming --root-base otherwise.
 core::Result<analysis::RootBase> parse_root_base(const std::string& text);
 
-// The major direction (±X, ±Y, ±Z) nearest to D: where the centroidal axis starts.
-core::Vec3 nearest_major_direction(core::Vec3 d);
-
 }  // namespace polyaxis::app

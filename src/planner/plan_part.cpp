@@ -15,14 +15,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// The major direction (±X, ±Y, ±Z) nearest to D: where the centroidal axis starts.
-Vec3 nearest_major_direction(Vec3 d) {
-  const double ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
-  if (az >= ax && az >= ay) return {0, 0, d.z < 0 ? -1.0 : 1.0};
-  if (ay >= ax) return {0, d.y < 0 ? -1.0 : 1.0, 0};
-  return {d.x < 0 ? -1.0 : 1.0, 0, 0};
-}
-
 // A region below the root's base that the substrate plate itself can supply: it lies within the
 // plate's thickness under the base and holds at most this share of the part's volume (a corner
 // of a leaning feature poking under a base plate, not a feature of its own).
@@ -73,7 +65,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const mo
   auto root_dir = analysis::root_direction(part.mesh, root_base, o.direction);
   if (!root_dir) return root_dir.error();
   analysis::CentroidalAxisOptions axis_options;
-  axis_options.start_direction = nearest_major_direction(root_dir.value());
+  axis_options.start_direction = analysis::nearest_major_direction(root_dir.value());
   auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
   if (!axis) return axis.error();
   analysis::DecomposeOptions dopt;

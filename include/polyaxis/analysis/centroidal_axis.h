@@ -45,6 +45,10 @@ struct CentroidalAxis {
   double increment_mm = 0;  // `inc` used (Ruan: the smallest distance between two non-intersecting surfaces, clamped)
 };
 
+// The major direction (±X, ±Y, ±Z) nearest to D: where the centroidal axis of a part built along D
+// starts (CentroidalAxisOptions::start_direction).
+Vec3 nearest_major_direction(Vec3 d);
+
 struct CentroidalAxisOptions {
   Vec3 start_direction{0, 0, 1};  // the root branch's major direction (the build direction)
   double min_increment_mm = 0.5;  // floor and ceiling of `inc`
