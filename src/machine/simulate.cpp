@@ -27,6 +27,8 @@ using motion::MachinePose;
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 // Plan segments searched ahead of the last match: generous for subdivided moves, keeps cost linear.
 constexpr std::size_t kPlanWindow = 64;
+// Consecutive planned segments a sample may lie on at once (zero-length turns in place among them).
+constexpr std::size_t kSharedSegments = 8;
 // Path length: a block is measured in pieces turning at most this much (degrees) each.
 constexpr double kLengthStepDeg = 1.0;
 // A feed above a limit by less than this fraction is the limit written with 4 decimals.
@@ -73,8 +75,19 @@ class PlanMatcher {
       }
       if (d < best) best = d, best_j = j;
     }
-    if (on_path) cursor_ = best_j;
-    const double ang = angle_to_arc(axis, normalized(plan_[best_j].tool_axis_part), normalized(plan_[best_j + 1].tool_axis_part));
+    auto arc_angle = [&](std::size_t j) {
+      return angle_to_arc(axis, normalized(plan_[j].tool_axis_part), normalized(plan_[j + 1].tool_axis_part));
+    };
+    double ang = arc_angle(best_j);
+    if (on_path) {
+      cursor_ = best_j;
+      // A sample where consecutive segments meet (a turn in place, the end of a path) lies on each
+      // of them: its axis is measured against whichever of them it follows.
+      for (std::size_t j = best_j + 1; j < end && j < best_j + kSharedSegments; ++j) {
+        if (motion::distance_to_segment(tip, plan_[j].tip_part_mm, plan_[j + 1].tip_part_mm) > tolerance_mm_) break;
+        ang = std::min(ang, arc_angle(j));
+      }
+    }
     return {best, ang};
   }
 
