@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "polyaxis/core/config_document.h"
 #include "polyaxis/io/text_file.h"
 
 namespace polyaxis::app {
@@ -18,7 +19,7 @@ core::Result<nlohmann::json> load_document(const std::string& path, std::string_
     text = std::move(read.value());
     source = path;
   }
-  return motion::parse_config_document(text, source);
+  return core::parse_config_document(text, source);
 }
 
 }  // namespace
@@ -30,26 +31,26 @@ void add_config_options(CLI::App& command, ConfigOptions& options, bool with_pro
 }
 
 core::Result<Configs> load_configs(const ConfigOptions& options) {
-  auto machine_doc = load_document(options.machine_path, motion::default_machine_json(), "machine");
+  auto machine_doc = load_document(options.machine_path, machine::default_machine_json(), "machine");
   if (!machine_doc) return machine_doc.error();
-  auto process_doc = load_document(options.process_path, motion::default_process_json(), "process");
+  auto process_doc = load_document(options.process_path, process::default_process_json(), "process");
   if (!process_doc) return process_doc.error();
   for (const std::string& set : options.sets) {
     core::Status s;
     if (set.starts_with("machine.")) {
-      s = motion::apply_override(machine_doc.value(), std::string_view(set).substr(8));
+      s = core::apply_override(machine_doc.value(), std::string_view(set).substr(8));
     } else if (set.starts_with("process.")) {
-      s = motion::apply_override(process_doc.value(), std::string_view(set).substr(8));
+      s = core::apply_override(process_doc.value(), std::string_view(set).substr(8));
     } else {
       return core::make_error(core::ErrorCode::kUsage, fmt::format("--set {}: say machine.KEY=VALUE or process.KEY=VALUE", set));
     }
     if (!s) return core::make_error(core::ErrorCode::kUsage, fmt::format("--set {}: {}", set, s.error().message));
   }
   Configs configs;
-  auto machine = motion::parse_machine(machine_doc.value().dump(), options.machine_path.empty() ? "the built-in machine" : options.machine_path);
+  auto machine = machine::parse_machine(machine_doc.value().dump(), options.machine_path.empty() ? "the built-in machine" : options.machine_path);
   if (!machine) return machine.error();
   configs.machine = std::move(machine.value());
-  auto process = motion::parse_process(process_doc.value().dump(), options.process_path.empty() ? "the built-in process" : options.process_path);
+  auto process = process::parse_process(process_doc.value().dump(), options.process_path.empty() ? "the built-in process" : options.process_path);
   if (!process) return process.error();
   configs.process = std::move(process.value());
   return configs;

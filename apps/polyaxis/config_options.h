@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "polyaxis/core/result.h"
-#include "polyaxis/motion/machine.h"
-#include "polyaxis/motion/process.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
 
 namespace polyaxis::app {
 
@@ -20,8 +20,8 @@ struct ConfigOptions {
 void add_config_options(CLI::App& command, ConfigOptions& options, bool with_process);
 
 struct Configs {
-  motion::MachineConfig machine;
-  motion::ProcessConfig process;
+  machine::MachineConfig machine;
+  process::ProcessConfig process;
 };
 
 // Loads the files (or the defaults), applies the overrides and validates. Every error is

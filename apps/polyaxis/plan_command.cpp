@@ -14,7 +14,7 @@
 #include "root_base_option.h"
 #include "polyaxis/core/progress.h"
 #include "polyaxis/io/write_file.h"
-#include "polyaxis/machine/gcode.h"
+#include "polyaxis/post/gcode.h"
 #include "polyaxis/planner/plan_part.h"
 #include "polyaxis/report/layers.h"
 #include "polyaxis/report/plan_files.h"
@@ -80,8 +80,8 @@ int run_plan(PlanCommandOptions& o) {
   opt.root_base = root_base.value();
   auto configs = load_configs(o.configs);
   if (!configs) return report_error(configs.error());
-  const motion::MachineConfig& machine = configs.value().machine;
-  const motion::ProcessConfig& process = configs.value().process;
+  const machine::MachineConfig& machine = configs.value().machine;
+  const process::ProcessConfig& process = configs.value().process;
   auto loaded = load_part(o.part);
   if (!loaded) return report_error(loaded.error());
   std::size_t warnings = 0;
@@ -103,7 +103,7 @@ int run_plan(PlanCommandOptions& o) {
                         job.gcode_s, job.simulate_s, job.verify_s, "", ""};
   meta.strategy = planner::strategy_name(job.strategy_used);
   meta.choice = job.choice;
-  if (auto s = machine::save_gcode(o.out_dir + "/" + stem + ".ngc", job.gcode); !s) return report_error(s.error());
+  if (auto s = post::save_gcode(o.out_dir + "/" + stem + ".ngc", job.gcode); !s) return report_error(s.error());
   const std::string report_text = report::report_json(plan, job.simulation, meta, &job.check);
   const std::size_t files = 2 + (o.html ? 1 : 0) + (o.svg ? plan.layers.layers.size() : 0);
   core::Progress progress("writing", files);

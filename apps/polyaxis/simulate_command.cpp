@@ -8,7 +8,7 @@
 #include "commands.h"
 #include "config_options.h"
 #include "polyaxis/io/text_file.h"
-#include "polyaxis/machine/simulate.h"
+#include "polyaxis/verify/simulate.h"
 #include "polyaxis/report/plan_view.h"
 
 namespace polyaxis::app {
@@ -29,7 +29,7 @@ int run_simulate(const SimulateOptions& o) {
   if (!configs) return report_error(configs.error());
   auto text = io::read_text_file(o.gcode_path, kMaxGcodeBytes);
   if (!text) return report_error(text.error());
-  std::vector<machine::ProgramPoint> plan;
+  std::vector<post::ProgramPoint> plan;
   if (!o.plan_path.empty()) {
     auto plan_text = io::read_text_file(o.plan_path, kMaxGcodeBytes);
     if (!plan_text) return report_error(plan_text.error());
@@ -37,9 +37,9 @@ int run_simulate(const SimulateOptions& o) {
     if (!program) return report_error(program.error());
     plan = std::move(program.value());
   }
-  auto sim = machine::simulate(configs.value().machine, text.value(), plan, &configs.value().process, o.path_tolerance_mm);
+  auto sim = verify::simulate(configs.value().machine, text.value(), plan, &configs.value().process, o.path_tolerance_mm);
   if (!sim) return report_error(sim.error());
-  const machine::SimulationReport& r = sim.value();
+  const verify::SimulationReport& r = sim.value();
   if (o.json) {
     nlohmann::ordered_json j;
     j["moves"] = r.moves;
@@ -47,7 +47,7 @@ int run_simulate(const SimulateOptions& o) {
     j["path_length_mm"] = r.path_length_mm;
     j["deposit_length_mm"] = r.deposit_length_mm;
     j["feed_time_s"] = r.feed_time_s;
-    auto span = [](const machine::AxisSpan& s) { return s.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json::array({s.min, s.max}); };
+    auto span = [](const verify::AxisSpan& s) { return s.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json::array({s.min, s.max}); };
     j["axis_ranges"] = {{"x", span(r.x_mm)}, {"y", span(r.y_mm)}, {"z", span(r.z_mm)}, {"tilt", span(r.a_or_b_deg)}, {"c", span(r.c_deg)}};
     j["limit_violations"] = r.limit_violations;
     j["violations"] = r.violations;

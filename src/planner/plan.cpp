@@ -35,8 +35,8 @@ double angle_deg(Vec3 a, Vec3 b) {
 }
 
 // After placement: every region above the plate, every direction within reach; the build model.
-core::Status place_checks(const std::vector<PlanRegion>& regions, const motion::MachineConfig& machine,
-                          const motion::ProcessConfig& process, Plan& plan) {
+core::Status place_checks(const std::vector<PlanRegion>& regions, const machine::MachineConfig& machine,
+                          const process::ProcessConfig& process, Plan& plan) {
   core::Box3 box;
   for (const PlanRegion& r : regions) {
     double low = INFINITY;
@@ -49,7 +49,7 @@ core::Status place_checks(const std::vector<PlanRegion>& regions, const motion::
                                           r.id, r.direction.x, r.direction.y, r.direction.z, -low));
     }
   }
-  plan.build_model = motion::make_build_model(machine, process, box.min.x, box.min.y, box.max.x, box.max.y);
+  plan.build_model = machine::make_build_model(machine, process, box.min.x, box.min.y, box.max.x, box.max.y);
   if (auto s = detail::check_region_reach(regions, machine, detail::reach_rad(machine)); !s) return s;
   return detail::check_region_travel(regions, machine);
 }
@@ -58,14 +58,14 @@ core::Status place_checks(const std::vector<PlanRegion>& regions, const motion::
 // the plate and the table along the move (tip straight, axis along the great circle), checked at
 // a quarter, a half and three quarters; at most kMaxGuardDepth halvings.
 template <typename Guard>
-core::Status refine_between(const motion::BuildModel& model, const toolpath::PathPoint& a, const toolpath::PathPoint& b, int depth,
+core::Status refine_between(const machine::BuildModel& model, const toolpath::PathPoint& a, const toolpath::PathPoint& b, int depth,
                             std::vector<toolpath::PathPoint>& out, Guard& guard) {
   if (depth >= kMaxGuardDepth || core::norm(a.tool_axis - b.tool_axis) < 1e-9) return {};
   bool clear = true;
   for (const double u : {0.25, 0.5, 0.75}) {
     const Vec3 tip = a.position_mm + (b.position_mm - a.position_mm) * u;
     const Vec3 axis = core::normalized(a.tool_axis * (1.0 - u) + b.tool_axis * u);
-    clear = clear && motion::head_clearance_mm(model, tip, axis) >= 0.0;
+    clear = clear && machine::head_clearance_mm(model, tip, axis) >= 0.0;
   }
   if (clear) return {};
   toolpath::PathPoint mid = b;
@@ -79,7 +79,7 @@ core::Status refine_between(const motion::BuildModel& model, const toolpath::Pat
 
 // Keeps every tool axis of REGION's PATHS inside the machine's reach with the head clear of the
 // plate and the table; the layers laid on the plate get the torch along the layer's normal.
-core::Status guard_axes(Plan& plan, const motion::MachineConfig& machine, const PlanOptions& options, const PlanRegion& region,
+core::Status guard_axes(Plan& plan, const machine::MachineConfig& machine, const PlanOptions& options, const PlanRegion& region,
                         const slicing::SliceResult& layers, std::vector<toolpath::LayerToolpaths>& paths) {
   const double reach = detail::reach_rad(machine);
   for (std::size_t k = 0; k < paths.size(); ++k) {
@@ -125,7 +125,7 @@ core::Status guard_axes(Plan& plan, const motion::MachineConfig& machine, const 
 
 // The first bead of the plan must be laid on the plate: a first region whose lowest layers are all
 // thinner than a bead would start in mid-air.
-core::Status first_deposit_on_plate(const Plan& plan, const motion::ProcessConfig& process) {
+core::Status first_deposit_on_plate(const Plan& plan, const process::ProcessConfig& process) {
   for (const toolpath::LayerToolpaths& lt : plan.toolpaths) {
     double low = INFINITY;
     for (const toolpath::Path& path : lt.paths) {
@@ -164,7 +164,7 @@ Placement rotation_to_z(Vec3 d) {
   return p;
 }
 
-core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
+core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                              const PlanOptions& options, const std::vector<PlanRegion>& given_regions) {
   Plan plan;
   if (!core::is_finite(options.direction) || core::norm(options.direction) < 1e-12) {
@@ -214,7 +214,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
       slice.max_mm = process.layer_max_mm;
       slice.limits.cusp_mm = process.cusp_mm;
       slice.limits.overhang_deg = process.self_supporting_deg;
-      if (options.tilt_on_overhang && motion::has_rotary_axes(machine.kind)) {
+      if (options.tilt_on_overhang && machine::has_rotary_axes(machine.kind)) {
         slice.limits.overhang_step_mm = process.max_step_bead_share * process.bead_width_mm;
       }
     }
@@ -227,7 +227,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
     tp.bead_width_mm = process.bead_width_mm;
     tp.perimeters = options.perimeters;
     tp.self_supporting_deg = process.self_supporting_deg;
-    tp.tilt_on_overhang = options.tilt_on_overhang && motion::has_rotary_axes(machine.kind);
+    tp.tilt_on_overhang = options.tilt_on_overhang && machine::has_rotary_axes(machine.kind);
     tp.threads = options.threads;
     tp.region = region.id;
     // The tilt may change no faster than the tilt axis turns at kRotaryShare of its limit while the
@@ -274,7 +274,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
   std::optional<std::uint32_t> previous_region;
   const double reach = detail::reach_rad(machine);
   auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
-    machine::ProgramPoint p;
+    post::ProgramPoint p;
     p.tip_part_mm = tip;
     p.tool_axis_part = axis;
     p.feed_mm_s = on ? deposit_feed : travel_feed;
@@ -301,7 +301,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
         const Vec3 approach = p0.position_mm + core::normalized(p0.tool_axis) * options.retract_mm;
         if (previous_region && *previous_region != region_id && !plan.program.empty()) {
           // A new region, built along another direction: cross over the part (transit.h).
-          const machine::ProgramPoint last = plan.program.back();
+          const post::ProgramPoint last = plan.program.back();
           bool first = true;
           for (TransitPoint t : transit(last.tip_part_mm, last.tool_axis_part, approach, p0.tool_axis, sphere_centre, sphere_radius)) {
             // Below the part's middle the sphere's outward axis points the head at the plate:
@@ -324,14 +324,14 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::Machi
       }
     }
     if (!plan.program.empty() && !first_in_layer) {
-      const machine::ProgramPoint last = plan.program.back();
+      const post::ProgramPoint last = plan.program.back();
       push(last.tip_part_mm + core::normalized(last.tool_axis_part) * options.retract_mm, last.tool_axis_part, false, lt.layer,
            "retract");
     }
   }
   if (plan.program.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: every layer is thinner than a bead");
   for (std::size_t i = 0; i < plan.program.size(); ++i) {
-    const machine::ProgramPoint& p = plan.program[i];
+    const post::ProgramPoint& p = plan.program[i];
     if (p.process_on) plan.max_tilt_deg = std::max(plan.max_tilt_deg, angle_deg(p.tool_axis_part, plan.layers.layers[p.layer].frame.d));
     if (i > 0 && angle_deg(p.tool_axis_part, plan.program[i - 1].tool_axis_part) > kReorientationDeg) ++plan.reorientations;
   }

@@ -20,7 +20,7 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 // of a leaning feature poking under a base plate, not a feature of its own).
 constexpr double kPlateSuppliedShare = 0.01;
 
-bool supplied_by_plate(const analysis::Region& r, const analysis::Region& root, const motion::ProcessConfig& process,
+bool supplied_by_plate(const analysis::Region& r, const analysis::Region& root, const process::ProcessConfig& process,
                        double part_volume) {
   if (r.rule != "below the plate" || !r.parent || *r.parent != root.id) return false;
   if (r.volume_mm3 > kPlateSuppliedShare * part_volume) return false;
@@ -41,8 +41,8 @@ struct Candidate {
   std::vector<std::string> warnings;
 };
 
-core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
-                                    const motion::ProcessConfig& process, const PlanPartOptions& o) {
+core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                    const process::ProcessConfig& process, const PlanPartOptions& o) {
   PlanOptions po = o.plan;
   po.direction = o.direction;
   auto plan = make_plan(part, machine, process, po);
@@ -50,8 +50,8 @@ core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const motion
   return Candidate{std::move(plan.value()), std::nullopt, Strategy::kSingle, {}};
 }
 
-core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
-                                        const motion::ProcessConfig& process, const PlanPartOptions& o,
+core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                        const process::ProcessConfig& process, const PlanPartOptions& o,
                                         const analysis::RootBase& root_base) {
   // The decomposition's exact cuts (CGAL corefinement) need a solid whose surface does not cross
   // itself. A few crossing faces, where a part's pieces were fused imperfectly (two_branches: 16
@@ -123,7 +123,7 @@ bool better(const Plan& a, const Plan& b) {
   return a.reorientations < b.reorientations;
 }
 
-core::Result<Candidate> choose(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
+core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                const PlanPartOptions& o, std::string& why) {
   if (o.strategy == Strategy::kSingle) {
     why = "one region along the given direction (--strategy single)";
@@ -172,16 +172,16 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const motion::Mac
 
 // The program of a chosen plan: G-code, its simulation against the plan and its verification
 // against the build model; OUT.plan is set.
-core::Status program_of(const motion::MachineConfig& machine, const motion::ProcessConfig& process, const PlanPartOptions& options,
+core::Status program_of(const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanPartOptions& options,
                         PlanPartResult& out) {
   const Plan& plan = out.plan;
   auto t0 = Clock::now();
-  auto gcode = machine::write_gcode(machine, process, plan.program, options.gcode);
+  auto gcode = post::write_gcode(machine, process, plan.program, options.gcode);
   if (!gcode) return gcode.error();
   out.gcode = std::move(gcode.value());
   out.gcode_s = since(t0);
   t0 = Clock::now();
-  auto sim = machine::simulate(machine, out.gcode, plan.program, &process, options.gcode.chordal_mm);
+  auto sim = verify::simulate(machine, out.gcode, plan.program, &process, options.gcode.chordal_mm);
   if (!sim) return sim.error();
   out.simulation = std::move(sim.value());
   out.simulate_s = since(t0);
@@ -191,7 +191,7 @@ core::Status program_of(const motion::MachineConfig& machine, const motion::Proc
                                         out.simulation.violations.empty() ? "" : out.simulation.violations.front()));
   }
   t0 = Clock::now();
-  auto check = machine::verify_build(machine, process, plan.build_model, out.gcode);
+  auto check = verify::verify_build(machine, process, plan.build_model, out.gcode);
   if (!check) return check.error();
   out.check = std::move(check.value());
   out.verify_s = since(t0);
@@ -209,8 +209,8 @@ const char* strategy_name(Strategy s) {
   return "?";
 }
 
-core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
-                                       const motion::ProcessConfig& process, const PlanPartOptions& options) {
+core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                       const process::ProcessConfig& process, const PlanPartOptions& options) {
   PlanPartResult out;
   auto chosen = choose(part, machine, process, options, out.choice);
   if (!chosen) return chosen.error();

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "polyaxis/motion/kinematics.h"
+#include "polyaxis/machine/kinematics.h"
 #include "polyaxis/toolpath/toolpath.h"
 
 namespace polyaxis::planner::detail {
@@ -30,8 +30,8 @@ Vec3 slerp(Vec3 a, Vec3 b, double u) {
 
 }  // namespace
 
-double reach_rad(const motion::MachineConfig& m) {
-  if (!motion::has_rotary_axes(m.kind)) return 0.0;
+double reach_rad(const machine::MachineConfig& m) {
+  if (!machine::has_rotary_axes(m.kind)) return 0.0;
   const double lo = std::abs(m.tilt_deg.min), hi = std::abs(m.tilt_deg.max);
   const bool full_turn = m.c_continuous || m.c_deg.max - m.c_deg.min >= 360.0;
   const bool both_signs = m.tilt_deg.min < 0.0 && m.tilt_deg.max > 0.0;
@@ -39,12 +39,12 @@ double reach_rad(const motion::MachineConfig& m) {
   return deg * kPi / 180.0;
 }
 
-core::Status check_region_reach(const std::vector<PlanRegion>& placed, const motion::MachineConfig& m, double reach) {
+core::Status check_region_reach(const std::vector<PlanRegion>& placed, const machine::MachineConfig& m, double reach) {
   const Vec3 up{0, 0, 1};
   for (const PlanRegion& r : placed) {
     const double need = angle(core::normalized(r.direction), up);
     if (need <= reach + 1e-9) continue;
-    const char letter = motion::tilt_axis_letter(m.kind);
+    const char letter = machine::tilt_axis_letter(m.kind);
     return core::make_error(
         core::ErrorCode::kMachineLimit,
         fmt::format("region {}: its build direction ({:.3f}, {:.3f}, {:.3f}) on the table needs a tilt of {:.1f} deg, but {} reaches "
@@ -56,13 +56,13 @@ core::Status check_region_reach(const std::vector<PlanRegion>& placed, const mot
   return {};
 }
 
-core::Status check_region_travel(const std::vector<PlanRegion>& placed, const motion::MachineConfig& m) {
+core::Status check_region_travel(const std::vector<PlanRegion>& placed, const machine::MachineConfig& m) {
   for (const PlanRegion& r : placed) {
     core::Box3 box;
     for (const Vec3& v : r.mesh.vertices) box.add(v);
     for (int k = 0; k < 8; ++k) {
       const Vec3 corner{k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y, k & 4 ? box.max.z : box.min.z};
-      auto pose = motion::inverse(m, corner, r.direction, nullptr);
+      auto pose = machine::inverse(m, corner, r.direction, nullptr);
       if (pose) continue;
       return core::make_error(core::ErrorCode::kMachineLimit,
                               fmt::format("region {}: built along ({:.3f}, {:.3f}, {:.3f}), its corner ({:.1f}, {:.1f}, {:.1f}) on the table "
@@ -75,14 +75,14 @@ core::Status check_region_travel(const std::vector<PlanRegion>& placed, const mo
   return {};
 }
 
-bool guard_axis(const motion::MachineConfig& machine, const motion::BuildModel& model, double reach, double clearance_mm,
+bool guard_axis(const machine::MachineConfig& machine, const machine::BuildModel& model, double reach, double clearance_mm,
                 double lift_mm, Vec3 tip, Vec3 d, Vec3& axis) {
   const Vec3 up{0, 0, 1};
   const Vec3 start = core::normalized(axis);
   auto ok = [&](Vec3 a) {
-    return angle(a, up) <= reach + 1e-12 && motion::head_clearance_mm(model, tip, a) >= clearance_mm &&
-           motion::head_clearance_mm(model, tip + a * lift_mm, a) >= clearance_mm && (tip + a * lift_mm).z >= 0.0 &&
-           motion::inverse(machine, tip, a, nullptr).ok() && motion::inverse(machine, tip + a * lift_mm, a, nullptr).ok();
+    return angle(a, up) <= reach + 1e-12 && machine::head_clearance_mm(model, tip, a) >= clearance_mm &&
+           machine::head_clearance_mm(model, tip + a * lift_mm, a) >= clearance_mm && (tip + a * lift_mm).z >= 0.0 &&
+           machine::inverse(machine, tip, a, nullptr).ok() && machine::inverse(machine, tip + a * lift_mm, a, nullptr).ok();
   };
   if (ok(start)) return true;
   // The furthest the axis may turn: to +Z, or as far as it stays within kMaxTiltRad of D.

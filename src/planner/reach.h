@@ -1,5 +1,5 @@
 // What the machine can reach with the part on its table: the tilt axis's range, and tool axes that
-// keep the head clear of the substrate plate and the table (motion/build_model.h), within the
+// keep the head clear of the substrate plate and the table (machine/build_model.h), within the
 // machine's travel. Private to the
 // planner module.
 #pragma once
@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "polyaxis/core/result.h"
-#include "polyaxis/motion/build_model.h"
-#include "polyaxis/motion/machine.h"
+#include "polyaxis/machine/build_model.h"
+#include "polyaxis/machine/machine.h"
 #include "polyaxis/planner/plan.h"
 
 namespace polyaxis::planner::detail {
@@ -16,11 +16,11 @@ namespace polyaxis::planner::detail {
 // The largest angle (radians) between a tool axis and the table's +Z that the tilt axis reaches:
 // the larger end of its range when C turns through a whole turn (either branch then reaches every
 // azimuth), else the smaller end; 0 on a 3-axis machine.
-double reach_rad(const motion::MachineConfig& machine);
+double reach_rad(const machine::MachineConfig& machine);
 
 // kMachineLimit naming the first placed region whose build direction is beyond REACH_RAD of +Z,
 // with the tilt it needs, the limit and what would make it reachable.
-core::Status check_region_reach(const std::vector<PlanRegion>& placed, const motion::MachineConfig& machine, double reach_rad);
+core::Status check_region_reach(const std::vector<PlanRegion>& placed, const machine::MachineConfig& machine, double reach_rad);
 
 // Turns AXIS (unit) towards the table's +Z, along the great circle, as little as needed for the
 // head at TIP, and at TIP + LIFT_MM along the axis (where the tool retracts to), to keep
@@ -30,11 +30,11 @@ core::Status check_region_reach(const std::vector<PlanRegion>& placed, const mot
 // axis must turn, one otherwise.
 // The machine's soft limits are kept too: an axis for which no inverse-kinematics branch stays
 // inside them is turned further.
-bool guard_axis(const motion::MachineConfig& machine, const motion::BuildModel& model, double reach_rad, double clearance_mm,
+bool guard_axis(const machine::MachineConfig& machine, const machine::BuildModel& model, double reach_rad, double clearance_mm,
                 double lift_mm, Vec3 tip, Vec3 d, Vec3& axis);
 
 // kMachineLimit naming the first placed region that cannot be reached along its own build
 // direction at a corner of its bounding box (table frame): the linear travel, before slicing.
-core::Status check_region_travel(const std::vector<PlanRegion>& placed, const motion::MachineConfig& machine);
+core::Status check_region_travel(const std::vector<PlanRegion>& placed, const machine::MachineConfig& machine);
 
 }  // namespace polyaxis::planner::detail

@@ -110,7 +110,7 @@ double tilted_step_mm(double t_mm, double tilted_deg, double alpha_deg, double m
   return std::max(plain, std::min(tilted, max_step_mm));
 }
 
-void check_support(Plan& plan, const motion::ProcessConfig& process) {
+void check_support(Plan& plan, const process::ProcessConfig& process) {
   const auto& ls = plan.layers.layers;
   plan.layer_reports.resize(ls.size());
   std::map<std::uint32_t, std::size_t> index_of;  // region id -> build order

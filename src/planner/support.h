@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "polyaxis/motion/process.h"
+#include "polyaxis/process/process.h"
 #include "polyaxis/planner/plan.h"
 
 namespace polyaxis::planner::detail {
@@ -19,7 +19,7 @@ namespace polyaxis::planner::detail {
 // region's first layer built upright from the table's top. The earlier
 // regions are sectioned only for a layer that overhangs its own previous layer (and for every
 // region's first layer), so a single-region plan costs nothing more. Cost: O(F) per such layer.
-void check_support(Plan& plan, const motion::ProcessConfig& process);
+void check_support(Plan& plan, const process::ProcessConfig& process);
 
 // How far (mm) a layer T_MM thick may reach beyond the layer below where the torch is tilted so
 // that the self-supporting cone, measured from the torch axis, leans TILTED_DEG (= α + θ) from the

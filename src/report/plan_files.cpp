@@ -13,8 +13,8 @@ using nlohmann::ordered_json;
 
 }  // namespace
 
-std::string report_json(const planner::Plan& plan, const machine::SimulationReport& sim, const PlanMeta& meta,
-                        const machine::BuildCheck* check) {
+std::string report_json(const planner::Plan& plan, const verify::SimulationReport& sim, const PlanMeta& meta,
+                        const verify::BuildCheck* check) {
   ordered_json j;
   j["part"] = meta.part;
   j["machine"] = meta.machine;

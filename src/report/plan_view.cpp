@@ -9,7 +9,7 @@
 
 #include "polyaxis/geom2d/polygon.h"
 #include "polyaxis/mesh/properties.h"
-#include "polyaxis/motion/kinematics.h"
+#include "polyaxis/machine/kinematics.h"
 
 namespace polyaxis::report {
 namespace {
@@ -36,13 +36,13 @@ void widen(std::array<double, 2>& range, double value, bool first) {
 // Rotary positions per layer, solved along the program as the G-code writer solves them (each
 // pose from the previous one). Points the machine cannot reach leave their layer's range alone:
 // the G-code writer reports them.
-void fill_rotary_ranges(const motion::MachineConfig& machine, const std::vector<machine::ProgramPoint>& program,
+void fill_rotary_ranges(const machine::MachineConfig& machine, const std::vector<post::ProgramPoint>& program,
                         std::vector<ViewLayer>& layers) {
-  if (!motion::has_rotary_axes(machine.kind)) return;
+  if (!machine::has_rotary_axes(machine.kind)) return;
   std::vector<bool> seen(layers.size(), false);
-  std::optional<motion::MachinePose> previous;
-  for (const machine::ProgramPoint& p : program) {
-    auto pose = motion::inverse(machine, p.tip_part_mm, p.tool_axis_part, previous ? &*previous : nullptr);
+  std::optional<machine::MachinePose> previous;
+  for (const post::ProgramPoint& p : program) {
+    auto pose = machine::inverse(machine, p.tip_part_mm, p.tool_axis_part, previous ? &*previous : nullptr);
     if (!pose) continue;
     previous = pose.value();
     if (p.layer >= layers.size()) continue;
@@ -84,13 +84,13 @@ std::string metrics_object(std::string_view metrics_json) {
   return doc.is_object() ? doc.dump(2) : std::string("{}");
 }
 
-PlanView make_plan_view(const planner::Plan& plan, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
+PlanView make_plan_view(const planner::Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                         const analysis::CentroidalAxis* axis, std::string part, std::string metrics_json) {
   PlanView view;
   view.part = std::move(part);
   view.machine = machine.name;
-  view.kinematics = std::string(motion::kinematics_name(machine.kind));
-  if (motion::has_rotary_axes(machine.kind)) view.tilt_axis = std::string(1, motion::tilt_axis_letter(machine.kind));
+  view.kinematics = std::string(machine::kinematics_name(machine.kind));
+  if (machine::has_rotary_axes(machine.kind)) view.tilt_axis = std::string(1, machine::tilt_axis_letter(machine.kind));
   view.process = process.name;
   view.bead_width_mm = process.bead_width_mm;
   view.placement = plan.placement;
@@ -193,7 +193,7 @@ std::string plan_view_json(const PlanView& view) {
   }
   out += "],\n\"program\":[\n";
   for (std::size_t i = 0; i < view.program.size(); ++i) {
-    const machine::ProgramPoint& p = view.program[i];
+    const post::ProgramPoint& p = view.program[i];
     fmt::format_to(std::back_inserter(out), "{}[{:.6f},{:.6f},{:.6f},{:.9f},{:.9f},{:.9f},{:.6g},{},{},{}]", i ? ",\n" : "",
                    p.tip_part_mm.x, p.tip_part_mm.y, p.tip_part_mm.z, p.tool_axis_part.x, p.tool_axis_part.y, p.tool_axis_part.z,
                    p.feed_mm_s, p.process_on ? 1 : 0, p.layer, p.region);

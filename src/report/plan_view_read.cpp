@@ -53,13 +53,13 @@ std::array<double, 2> get_range(const Json& j) {
   return {j[0].get<double>(), j[1].get<double>()};
 }
 
-std::vector<machine::ProgramPoint> program_rows(const Json& rows) {
-  std::vector<machine::ProgramPoint> program;
+std::vector<post::ProgramPoint> program_rows(const Json& rows) {
+  std::vector<post::ProgramPoint> program;
   if (!rows.is_array()) throw std::runtime_error("\"program\" is not an array");
   program.reserve(rows.size());
   for (const Json& row : rows) {
     if (!row.is_array() || row.size() != 10) throw std::runtime_error("a program row is not 10 numbers");
-    machine::ProgramPoint p;
+    post::ProgramPoint p;
     p.tip_part_mm = {row[0].get<double>(), row[1].get<double>(), row[2].get<double>()};
     p.tool_axis_part = {row[3].get<double>(), row[4].get<double>(), row[5].get<double>()};
     p.feed_mm_s = row[6].get<double>();
@@ -76,7 +76,7 @@ std::vector<machine::ProgramPoint> program_rows(const Json& rows) {
 
 }  // namespace
 
-core::Result<std::vector<machine::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source) {
+core::Result<std::vector<post::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source) {
   try {
     return program_rows(Json::parse(json).at("program"));
   } catch (const std::exception& e) {
@@ -156,7 +156,7 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       view.layers.push_back(std::move(layer));
     }
     view.program = program_rows(doc.at("program"));
-    for (const machine::ProgramPoint& p : view.program) {
+    for (const post::ProgramPoint& p : view.program) {
       if (p.layer >= view.layers.size()) throw std::runtime_error("a program row's layer is out of range");
     }
   } catch (const std::exception& e) {

@@ -58,7 +58,7 @@ std::string rings_fields(const std::vector<std::vector<Vec3>>& rings, const char
 
 // The program points kept for the page: all of them up to MAX_POINTS; beyond, every k-th point of
 // each run of deposit or travel moves, with the run's last point and every layer's first and last.
-std::vector<std::size_t> kept_points(const std::vector<machine::ProgramPoint>& program, std::size_t max_points) {
+std::vector<std::size_t> kept_points(const std::vector<post::ProgramPoint>& program, std::size_t max_points) {
   std::vector<std::size_t> kept;
   const std::size_t n = program.size();
   const std::size_t stride = max_points == 0 || n <= max_points ? 1 : (n + max_points - 1) / max_points;
@@ -121,7 +121,7 @@ std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
   points.reserve(3 * kept.size()), axes.reserve(3 * kept.size()), flags.reserve(kept.size()), regions.reserve(kept.size());
   std::vector<std::size_t> first(view.layers.size(), 0), count(view.layers.size(), 0);
   for (std::size_t k = 0; k < kept.size(); ++k) {
-    const machine::ProgramPoint& p = view.program[kept[k]];
+    const post::ProgramPoint& p = view.program[kept[k]];
     push(points, p.tip_part_mm);
     push(axes, core::normalized(p.tool_axis_part));
     flags.push_back(static_cast<std::uint8_t>((p.process_on ? 1 : 0) | (k == 0 ? 2 : 0)));

@@ -67,14 +67,14 @@ std::vector<std::array<double, 6>> rs274_positions(const std::string& canon) {
 // The program in DIR read back (support/readback.h) on the default machine and process, with the
 // plate report.json states; checks what every plan must hold and returns the reading.
 ReadBack check_readback(const std::filesystem::path& dir, const std::string& name) {
-  auto machine = motion::parse_machine(motion::default_machine_json(), "default");
-  auto process = motion::parse_process(motion::default_process_json(), "default");
+  auto machine = machine::parse_machine(machine::default_machine_json(), "default");
+  auto process = process::parse_process(process::default_process_json(), "default");
   EXPECT_TRUE(machine.ok() && process.ok());
   const auto report = read_json(dir / "report.json");
   const auto& sub = report["substrate"];
   const Plate plate{sub["x_mm"][0].get<double>(), sub["x_mm"][1].get<double>(), sub["y_mm"][0].get<double>(), sub["y_mm"][1].get<double>(),
                     sub["top_z_mm"].get<double>(), sub["top_z_mm"].get<double>() - sub["thickness_mm"].get<double>()};
-  const motion::ProcessConfig& p = process.value();
+  const process::ProcessConfig& p = process.value();
   const double spacing = p.bead_width_mm / 4.0;
   const double step = std::max(p.max_step_bead_share * p.bead_width_mm, p.layer_max_mm * std::tan(p.self_supporting_deg * M_PI / 180.0));
   const double reach = std::hypot(std::max(p.layer_max_mm, 0.5 * (p.layer_max_mm + p.bead_width_mm)), std::max(0.5 * p.bead_width_mm, step)) + spacing;

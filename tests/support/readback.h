@@ -1,6 +1,6 @@
 // The e2e tests' own reading of a program as the machine runs it, written apart from the
-// library's verifier (machine/verify.h) so the two check each other: the axis words of every
-// block, joint-linear between blocks, through forward kinematics (motion::forward, itself checked
+// library's verifier (verify/verify.h) so the two check each other: the axis words of every
+// block, joint-linear between blocks, through forward kinematics (machine::forward, itself checked
 // against LinuxCNC's trt-kins), sampled; the head, the grounding of every bead and the stalls
 // checked with rules stated here.
 #pragma once
@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "polyaxis/motion/kinematics.h"
-#include "polyaxis/motion/machine.h"
-#include "polyaxis/motion/process.h"
+#include "polyaxis/machine/kinematics.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
 
 namespace polyaxis::test {
 
@@ -43,7 +43,7 @@ struct ReadBack {
 //   or when a deposit sample of an earlier layer ("(layer N" comments) lies within REACH_MM.
 // - stall: a block with the process on whose tip path over its duration (F as LinuxCNC reads it
 //   in G94: XYZ mm/min, else rotary deg/min) is below half the deposit feed.
-inline ReadBack read_back(const motion::MachineConfig& m, const motion::ProcessConfig& proc, const Plate& plate, const std::string& gcode,
+inline ReadBack read_back(const machine::MachineConfig& m, const process::ProcessConfig& proc, const Plate& plate, const std::string& gcode,
                           double reach_mm, double spacing_mm) {
   ReadBack rb;
   const double kPi = 3.14159265358979323846;
@@ -101,19 +101,19 @@ inline ReadBack read_back(const motion::MachineConfig& m, const motion::ProcessC
       if (at != std::string::npos) pos[i] = std::stod(line.substr(at + 1));
     }
     if (const auto f = line.find('F'); f != std::string::npos) feed = std::stod(line.substr(f + 1));
-    const char tilt = motion::tilt_axis_letter(m.kind);
+    const char tilt = machine::tilt_axis_letter(m.kind);
     auto pose = [&](const std::array<double, 6>& a, const std::array<double, 6>& b, double u) {
       auto lerp = [&](std::size_t i) { return a[i] + (b[i] - a[i]) * u; };
-      return motion::MachinePose{lerp(0), lerp(1), lerp(2), tilt == 'B' ? lerp(4) : lerp(3), lerp(5)};
+      return machine::MachinePose{lerp(0), lerp(1), lerp(2), tilt == 'B' ? lerp(4) : lerp(3), lerp(5)};
     };
-    const core::Vec3 from = motion::forward(m, pose(prev, pos, 0.0)).tip_part_mm;
-    const core::Vec3 to = motion::forward(m, pose(prev, pos, 1.0)).tip_part_mm;
+    const core::Vec3 from = machine::forward(m, pose(prev, pos, 0.0)).tip_part_mm;
+    const core::Vec3 to = machine::forward(m, pose(prev, pos, 1.0)).tip_part_mm;
     const double rot = std::max({std::abs(pos[3] - prev[3]), std::abs(pos[4] - prev[4]), std::abs(pos[5] - prev[5])});
     const int n = have ? std::max(1, static_cast<int>(std::ceil(std::max(core::norm(to - from) / spacing_mm, rot)))) : 1;
     double length = 0.0;
     core::Vec3 last = from;
     for (int k = have ? 1 : n; k <= n; ++k) {
-      const motion::MachineToolPose tp = motion::forward(m, pose(prev, pos, static_cast<double>(k) / n));
+      const machine::MachineToolPose tp = machine::forward(m, pose(prev, pos, static_cast<double>(k) / n));
       const core::Vec3 t = tp.tip_part_mm, a = core::normalized(tp.tool_axis_part);
       length += core::norm(t - last);
       last = t;

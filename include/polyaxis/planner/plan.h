@@ -10,11 +10,11 @@
 
 #include "polyaxis/core/result.h"
 #include "polyaxis/geom2d/polygon.h"
-#include "polyaxis/machine/program.h"
+#include "polyaxis/post/program.h"
 #include "polyaxis/mesh/repair.h"
-#include "polyaxis/motion/build_model.h"
-#include "polyaxis/motion/machine.h"
-#include "polyaxis/motion/process.h"
+#include "polyaxis/machine/build_model.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
 #include "polyaxis/slicing/slice.h"
 #include "polyaxis/toolpath/toolpath.h"
 
@@ -90,7 +90,7 @@ struct Plan {
   StageTimes times;
   slicing::SliceResult layers;
   std::vector<toolpath::LayerToolpaths> toolpaths;
-  std::vector<machine::ProgramPoint> program;  // tool tip and axis, part frame
+  std::vector<post::ProgramPoint> program;  // tool tip and axis, part frame
   std::vector<LayerReport> layer_reports;
   std::vector<std::uint32_t> region_of_layer;  // region id of each layer
   std::uint32_t regions = 1;
@@ -98,7 +98,7 @@ struct Plan {
   // region's support_free is cleared when one of its layers has unsupported area.
   std::vector<PlanRegion> placed_regions;
   Placement placement;        // part frame -> table frame; everything below is in the table frame
-  motion::BuildModel build_model;  // the table, the plate (top at Z = 0) and the head
+  machine::BuildModel build_model;  // the table, the plate (top at Z = 0) and the head
   // Tool axes turned towards the table's normal to keep the head clear of the plate or the table,
   // or inside the tilt axis's reach, and the first layers on the plate laid with the torch upright.
   std::uint64_t axes_turned = 0;
@@ -127,10 +127,10 @@ inline constexpr double kUnsupportedNoiseMm2 = 0.01;
 // Before slicing: a region reaching below the plate (kInfeasible) or built along a direction the
 // tilt axis cannot reach (kMachineLimit) is refused, naming the region, the direction and the
 // limit. Tool axes are kept inside the reach and the head clear of the plate and the table
-// (PlanOptions::head_clearance_mm, motion/build_model.h); a point where no axis within
+// (PlanOptions::head_clearance_mm, machine/build_model.h); a point where no axis within
 // toolpath::kMaxTiltRad of the layer's normal does is kMachineLimit.
 // Errors: bad options (kUsage), nothing to build (kInfeasible).
-core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
+core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                              const PlanOptions& options, const std::vector<PlanRegion>& regions = {});
 
 }  // namespace polyaxis::planner

@@ -9,9 +9,9 @@
 #include "polyaxis/analysis/centroidal_axis.h"
 #include "polyaxis/analysis/decompose.h"
 #include "polyaxis/core/result.h"
-#include "polyaxis/machine/gcode.h"
-#include "polyaxis/machine/simulate.h"
-#include "polyaxis/machine/verify.h"
+#include "polyaxis/post/gcode.h"
+#include "polyaxis/verify/simulate.h"
+#include "polyaxis/verify/verify.h"
 #include "polyaxis/planner/plan.h"
 
 namespace polyaxis::planner {
@@ -30,7 +30,7 @@ struct PlanPartOptions {
   Vec3 direction{0, 0, 1};       // the single region's build direction, and the root's default
   analysis::RootBase root_base;  // where the root region stands (decompose; auto tries kLowest too)
   PlanOptions plan;              // perimeters, tilt, retract, threads (plan.direction is set from `direction`)
-  machine::GcodeOptions gcode;   // path tolerance
+  post::GcodeOptions gcode;   // path tolerance
   // Work each decomposition may do (analysis::DecomposeOptions::work_budget_facet_visits): a few
   // seconds on one core; 0 for no limit. Splitting stops there with the regions found so far.
   double decompose_budget_facet_visits = kDefaultDecomposeBudget;
@@ -39,8 +39,8 @@ struct PlanPartOptions {
 struct PlanPartResult {
   Plan plan;
   std::string gcode;
-  machine::SimulationReport simulation;  // the program read back and compared with the plan
-  machine::BuildCheck check;             // the program checked against the build model
+  verify::SimulationReport simulation;  // the program read back and compared with the plan
+  verify::BuildCheck check;             // the program checked against the build model
   std::optional<analysis::CentroidalAxis> axis;  // the decomposition's, when it was used
   Strategy strategy_used = Strategy::kSingle;
   std::string choice;                    // what was chosen and why, one sentence
@@ -59,8 +59,8 @@ struct PlanPartResult {
 // Then the G-code, its simulation against the plan and its verification against the build model.
 // Errors: those of make_plan and write_gcode (kUsage naming options, kInfeasible, kMachineLimit
 // naming the region, direction and limit); a program breaking a machine limit is kMachineLimit.
-core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const motion::MachineConfig& machine,
-                                       const motion::ProcessConfig& process, const PlanPartOptions& options = {});
+core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                       const process::ProcessConfig& process, const PlanPartOptions& options = {});
 
 // "single", "decompose", "auto".
 const char* strategy_name(Strategy s);

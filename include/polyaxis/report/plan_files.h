@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "polyaxis/core/result.h"
-#include "polyaxis/machine/program.h"
-#include "polyaxis/machine/simulate.h"
-#include "polyaxis/machine/verify.h"
+#include "polyaxis/post/program.h"
+#include "polyaxis/verify/simulate.h"
+#include "polyaxis/verify/verify.h"
 #include "polyaxis/planner/plan.h"
 
 namespace polyaxis::report {
@@ -27,8 +27,8 @@ struct PlanMeta {
 
 // report.json: the metrics of SPEC §3 (schema in docs/plan.md). SIM is the simulation of the
 // written G-code (build time and path length come from it).
-// CHECK, when given, is the program verified against the build model (machine/verify.h).
-std::string report_json(const planner::Plan& plan, const machine::SimulationReport& sim, const PlanMeta& meta,
-                        const machine::BuildCheck* check = nullptr);
+// CHECK, when given, is the program verified against the build model (verify/verify.h).
+std::string report_json(const planner::Plan& plan, const verify::SimulationReport& sim, const PlanMeta& meta,
+                        const verify::BuildCheck* check = nullptr);
 
 }  // namespace polyaxis::report

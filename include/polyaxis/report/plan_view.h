@@ -13,9 +13,9 @@
 
 #include "polyaxis/analysis/centroidal_axis.h"
 #include "polyaxis/core/result.h"
-#include "polyaxis/machine/program.h"
-#include "polyaxis/motion/machine.h"
-#include "polyaxis/motion/process.h"
+#include "polyaxis/post/program.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
 #include "polyaxis/planner/plan.h"
 
 namespace polyaxis::report {
@@ -46,7 +46,7 @@ struct ViewAxis {
 struct PlanView {
   std::string part;         // the part file, as given
   std::string machine;      // machine name
-  std::string kinematics;   // motion::kinematics_name
+  std::string kinematics;   // machine::kinematics_name
   std::string tilt_axis;    // "A", "B" or "" (3-axis)
   std::string process;      // process name
   double bead_width_mm = 0.0;
@@ -55,12 +55,12 @@ struct PlanView {
   std::vector<planner::PlanRegion> regions;  // placed
   std::optional<ViewAxis> axis;              // placed; with --decompose
   std::vector<ViewLayer> layers;
-  std::vector<machine::ProgramPoint> program;
+  std::vector<post::ProgramPoint> program;
 };
 
 // The view of PLAN. AXIS (part frame, before placement) may be null. METRICS_JSON is report.json.
 // The rotary ranges come from inverse kinematics along the program, as the G-code writer runs it.
-PlanView make_plan_view(const planner::Plan& plan, const motion::MachineConfig& machine, const motion::ProcessConfig& process,
+PlanView make_plan_view(const planner::Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                         const analysis::CentroidalAxis* axis, std::string part, std::string metrics_json);
 
 // METRICS_JSON as a JSON object indented by 2, keys in their order ("{}" when it is not an object).
@@ -75,6 +75,6 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
 
 // The program points of a plan.json (for `polyaxis simulate --plan`). kInvalidInput on anything
 // malformed.
-core::Result<std::vector<machine::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source);
+core::Result<std::vector<post::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source);
 
 }  // namespace polyaxis::report

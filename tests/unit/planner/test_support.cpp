@@ -8,8 +8,8 @@
 #include "planner/support.h"
 
 #include "polyaxis/mesh/repair.h"
-#include "polyaxis/motion/machine.h"
-#include "polyaxis/motion/process.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
 #include "polyaxis/planner/plan.h"
 #include "support/meshes.h"
 #include "support/repaired.h"
@@ -40,8 +40,8 @@ struct Split {
 };
 
 Plan plan_of(const mesh::RepairedMesh& whole, const std::vector<PlanRegion>& regions) {
-  auto machine = motion::parse_machine(motion::default_machine_json(), "default");
-  auto process = motion::parse_process(motion::default_process_json(), "default");
+  auto machine = machine::parse_machine(machine::default_machine_json(), "default");
+  auto process = process::parse_process(process::default_process_json(), "default");
   EXPECT_TRUE(machine.ok() && process.ok());
   PlanOptions o;
   o.tilt_on_overhang = false;
@@ -72,8 +72,8 @@ TEST(SupportCheck, ARegionBuiltBeforeWhatHoldsItIsRefused) {
   // The same regions the wrong way round: the upper half first stands on the plate, so the lower
   // half would have to go into the plate under it. Refused before slicing, naming the region.
   const Split s;
-  auto machine = motion::parse_machine(motion::default_machine_json(), "default");
-  auto process = motion::parse_process(motion::default_process_json(), "default");
+  auto machine = machine::parse_machine(machine::default_machine_json(), "default");
+  auto process = process::parse_process(process::default_process_json(), "default");
   ASSERT_TRUE(machine.ok() && process.ok());
   auto plan = make_plan(s.whole, machine.value(), process.value(), PlanOptions{},
                         {region(0, s.upper, s.leaning, std::nullopt), region(1, s.lower, {0, 0, 1}, 0)});
@@ -115,8 +115,8 @@ TEST(SupportCheck, TheTiltedTorchStepIsBoundedByTheBead) {
 TEST(SupportCheck, ARoundBarBentThrough110DegreesIsNotSupportFreeOnPlanarLayers) {
   // Its end leans 110° from vertical: no torch tilt lets a planar layer overhang its layer below by
   // more than half a bead, so the outer bend hangs. Other bends and sizes: the same.
-  auto machine = motion::parse_machine(motion::default_machine_json(), "default");
-  auto process = motion::parse_process(motion::default_process_json(), "default");
+  auto machine = machine::parse_machine(machine::default_machine_json(), "default");
+  auto process = process::parse_process(process::default_process_json(), "default");
   ASSERT_TRUE(machine.ok() && process.ok());
   for (const auto& [bend, bar, sweep] : {std::tuple{30.0, 5.0, 110.0}, std::tuple{45.0, 8.0, 100.0}, std::tuple{25.0, 4.0, 130.0}}) {
     const mesh::RepairedMesh m = repaired(polyaxis::test::bent_bar(bend, bar, sweep, 48, 24));

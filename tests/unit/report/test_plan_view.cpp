@@ -8,8 +8,8 @@
 
 #include "polyaxis/io/read_part.h"
 #include "polyaxis/mesh/repair.h"
-#include "polyaxis/motion/machine.h"
-#include "polyaxis/motion/process.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
 #include "polyaxis/report/plan_view.h"
 #include "polyaxis/report/report_html.h"
 
@@ -56,7 +56,7 @@ PlanView small_view(std::size_t program_points = 6) {
     v.layers.push_back(l);
   }
   for (std::size_t i = 0; i < program_points; ++i) {
-    machine::ProgramPoint p;
+    post::ProgramPoint p;
     p.tip_part_mm = {static_cast<double>(i), 1.0, 0.3};
     p.tool_axis_part = {0, 0, 1};
     p.feed_mm_s = 10;
@@ -173,7 +173,7 @@ TEST(ViewData, ArraysDecodeToTheViewAndLayersIndexTheirPoints) {
 TEST(ViewData, BigProgramsAreDecimatedKeepingEveryRunsEnds) {
   PlanView v = small_view(0);
   for (std::size_t i = 0; i < 100'000; ++i) {
-    machine::ProgramPoint p;
+    post::ProgramPoint p;
     const double t = static_cast<double>(i) * 1e-3;
     p.tip_part_mm = {std::cos(t), std::sin(t), 0.3};
     p.tool_axis_part = {0, 0, 1};
@@ -229,8 +229,8 @@ TEST(PlanView, RealPlanHasContoursRotaryRangesAndTheWholePartAsOneRegion) {
   ASSERT_TRUE(read.ok());
   auto part = mesh::repair(std::move(read.value().mesh));
   ASSERT_TRUE(part.ok());
-  const motion::MachineConfig machine = motion::parse_machine(motion::default_machine_json(), "default").value();
-  const motion::ProcessConfig process = motion::parse_process(motion::default_process_json(), "default").value();
+  const machine::MachineConfig machine = machine::parse_machine(machine::default_machine_json(), "default").value();
+  const process::ProcessConfig process = process::parse_process(process::default_process_json(), "default").value();
   auto plan = planner::make_plan(part.value(), machine, process, {});
   ASSERT_TRUE(plan.ok()) << plan.error().message;
   const PlanView v = make_plan_view(plan.value(), machine, process, nullptr, "pen_rack.stl", "{}");

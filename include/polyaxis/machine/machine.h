@@ -1,0 +1,99 @@
+// The machine file: kinematics, axis limits, pivot offsets, feed limits and the nozzle (SPEC §2.7).
+// Parameters of the table-table kinematics mirror LinuxCNC's xyzac-trt-kins / xyzbc-trt-kins HAL pins
+// (x/y/z-rot-point, x/y/z-offset, tool-offset, see kinematics.h), so a LinuxCNC configuration can be
+// copied over number for number. Degrees appear here because this is an edge (config); the
+// kinematics convert once.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "polyaxis/core/result.h"
+
+namespace polyaxis::machine {
+
+enum class Kinematics {
+  k3Axis,               // "xyz": tool along machine +Z, no rotary axes
+  kTableTiltA_RotaryC,  // "xyzac-trt": table tilts about X (A), rotary table C mounted on it
+  kTableTiltB_RotaryC,  // "xyzbc-trt": table tilts about Y (B), rotary table C mounted on it
+};
+
+// "xyz", "xyzac-trt", "xyzbc-trt": the names machine files use.
+std::string_view kinematics_name(Kinematics kind);
+// 'A' or 'B' for the table-table machines, '\0' for 3-axis.
+char tilt_axis_letter(Kinematics kind);
+inline bool has_rotary_axes(Kinematics kind) { return kind != Kinematics::k3Axis; }
+
+struct AxisRange {
+  double min = 0.0;  // mm for X Y Z, degrees for A B C
+  double max = 0.0;
+};
+
+// Table-table pivot, exactly LinuxCNC's trt-kins pins (all mm):
+struct TrtPivot {
+  double x_rot_point_mm = 0.0;  // centre of rotation of C relative to machine zero
+  double y_rot_point_mm = 0.0;
+  double z_rot_point_mm = 0.0;
+  double x_offset_mm = 0.0;     // xyzbc only: B axis relative to the C axis, along X
+  double y_offset_mm = 0.0;     // xyzac only: A axis relative to the C axis, along Y
+  double z_offset_mm = 0.0;     // tilt axis relative to the C axis, along Z
+  double tool_offset_mm = 0.0;  // motion.tooloffset.z, added to z_offset as trt-kins does
+  // false: LinuxCNC 2.9's trt-kins rotation sense (opposite to the conventional directions);
+  // true: conventional right-hand directions (the later conventional-directions pin).
+  bool conventional_directions = false;
+};
+
+struct FeedLimits {
+  double linear_max_mm_min = 6000.0;  // largest XYZ path feed the machine accepts
+  double rotary_max_deg_min = 3600.0;  // largest angular feed of any rotary axis
+};
+
+// Dwivedi Eq. 2: r(z) = z·tan(θ) for z ≤ z1, R above (up to z1 + the cylinder's height).
+struct NozzleModel {
+  double tip_half_angle_deg = 30.0;  // θ, cone half-angle at the tip
+  double cone_height_mm = 20.0;      // z1
+  double cylinder_radius_mm = 25.0;  // R
+  double cylinder_height_mm = 150.0; // length of the cylinder above the cone
+};
+
+// A box fixed to the head (a powder feeder, a camera, the wire feeder), in the tool frame: origin
+// at the nozzle tip, +Z up the nozzle, X and Y the machine's X and Y. mm.
+struct HeadBox {
+  double min_mm[3] = {0, 0, 0};
+  double max_mm[3] = {0, 0, 0};
+};
+
+// The machine table: a disc whose top is the plane the substrate plate is clamped to. On a
+// table-table machine it turns with the part, so in the part frame it is fixed.
+struct TableModel {
+  double radius_mm = 250.0;
+};
+
+struct MachineConfig {
+  std::string name;
+  Kinematics kind = Kinematics::k3Axis;
+  AxisRange x_mm, y_mm, z_mm;
+  AxisRange tilt_deg;          // A (xyzac-trt) or B (xyzbc-trt); unused on 3-axis
+  AxisRange c_deg;             // unused when c_continuous or on 3-axis
+  bool c_continuous = false;   // C turns without end stops
+  TrtPivot pivot;
+  FeedLimits feed;
+  NozzleModel nozzle;
+  std::vector<HeadBox> head_boxes;  // optional, "head_boxes" in the file
+  TableModel table;
+};
+
+// Parses a machine file (JSON; // and /* */ comments allowed). Every problem is ErrorCode::kUsage
+// with SOURCE and the dotted key in the message: unknown or duplicate keys (P6), non-finite or
+// absurd (|v| > 1e9) numbers, including 1e999 which parses as inf (P5), min > max naming both keys
+// (P3), unknown kinematics listing the supported ones or a missing axis (P4). Cost: linear in size.
+core::Result<MachineConfig> parse_machine(std::string_view json, const std::string& source);
+
+// The embedded default machine file: a 5-axis table-table A/C deposition machine (same text as
+// examples/machines/ded5_ac.json).
+std::string_view default_machine_json();
+
+}  // namespace polyaxis::machine

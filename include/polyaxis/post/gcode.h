@@ -1,0 +1,56 @@
+// ISO / LinuxCNC G-code for 3-axis and table-table 5-axis deposition machines (SPEC §2.7).
+//
+// The axis words are joint positions (machine/kinematics.h): the program runs on a controller with
+// identity kinematics, e.g. trivkins or LinuxCNC's switchable trt configs in identity mode (M429).
+// The writer does the inverse kinematics itself, point by point, keeping the solution branch and
+// the C turn closest to the previous point, and subdivides every move so the tip stays within
+// GcodeOptions::chordal_mm of the planned straight segment.
+//
+// Feed (G94, units per minute). LinuxCNC reads F as follows (G-code overview, "Feed Rate"): when any
+// of X Y Z moves, F is the XYZ path speed in mm/min and the rotary axes are coordinated to start and
+// stop with it; when only rotary axes move, F is in degrees/min along the combined A/B/C motion. The
+// writer therefore computes each block's duration in the part frame (tip length / planned feed),
+// lengthens it until neither the XYZ speed exceeds feed.linear_max_mm_min nor any rotary axis turns
+// faster than feed.rotary_max_deg_min (RELIABILITY O3: slow down, never an F above a limit), and
+// writes F = XYZ length / duration, or rotary length / duration for a rotary-only block, rounded
+// down. Lengths are those of the words as written (4 decimals), which is what the controller sees.
+// Inverse time (G93) is not needed and not written.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "polyaxis/core/result.h"
+#include "polyaxis/post/program.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
+
+namespace polyaxis::post {
+
+struct GcodeOptions {
+  double chordal_mm = 0.01;            // largest tip deviation from the planned segment between blocks
+  bool rapid_travel = false;           // travel moves (process off) as G0 at the controller's rapid rates
+                                       // instead of G1 at their planned feed
+  std::uint64_t max_output_bytes = 0;  // 0: no cap; beyond it → kOutput (RELIABILITY O5)
+};
+
+// The program for POINTS: header (G21 G90 G94 G17 and comments naming machine and process), a G0 to
+// the first point (its process_on is ignored: nothing deposits on the way there), then for each
+// further point the process on/off codes when its process_on changes (plus G4 P dwell_on_s after
+// switching on), a block comment when comment_if_new_block is set, and the G1 (or G0) blocks of the
+// subdivided move; process off if still on, then M2. Linear words and rotary words (degrees) have
+// 4 decimals; every block carries every axis word; F is written when it changes.
+// Errors: kMachineLimit quoting the first move whose pose leaves a soft limit (O1) or that a 3-axis
+// machine cannot make; kInternal for a non-finite value anywhere (O4) or a feed ≤ 0; kInfeasible
+// for an empty program or an unreachable chordal tolerance; kOutput above max_output_bytes.
+// Deterministic: the same input gives the same bytes. Cost: linear in the number of blocks.
+core::Result<std::string> write_gcode(const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                      std::span<const ProgramPoint> points, const GcodeOptions& options = {});
+
+// Writes TEXT to PATH atomically and synced (io::write_file_atomic, Durability::kSynced): no partial
+// file on failure (kOutput naming the path).
+core::Status save_gcode(const std::string& path, std::string_view text);
+
+}  // namespace polyaxis::post

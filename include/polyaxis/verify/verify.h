@@ -1,0 +1,62 @@
+// The build as the machine runs it: a program read back through forward kinematics and checked
+// against the physical build model (machine/build_model.h), without the planner's bookkeeping.
+//
+// Rules (docs/plan.md, "Verification"):
+// - Head: at every sample of every move (rapids, approaches and transits included) no point of
+//   the head model is below the substrate's or the table's top (build_model.h, conservative).
+// - Grounding: a layer is the program's "(layer N region R" block; its normal n is fitted to its
+//   deposit samples (the plane they lie on, turned to the tool's side). A deposit sample p rests on
+//   the substrate when it is over the plate and at most ground_mm above its top, or on earlier
+//   deposit when a sample q of an earlier layer lies under it: h = (p − q)·n in [0, ground_mm] and
+//   |(p − q) − h·n| <= ground_lateral_mm, with
+//     ground_mm = max(layer_max, (layer_max + bead)/2) + spacing  (the layer below, or the face of
+//                 an earlier region whose bead centres lie half a bead inside it),
+//     ground_lateral_mm = max(bead/2, step) + spacing,  step = max(max_step_bead_share·bead,
+//                 layer_max·tan α): the bead centre nearest under a point within a layer, or a
+//                 contour stepping out by the most a layer may.
+// - A region starts in mid-air when the first deposit sample of its program is not grounded.
+// - Stall: process-on feed time during which the tip moves slower than kStallShare of the
+//   process's deposit feed. Dwells after switching on (the process file's dwell_on_s) are counted
+//   apart: the process asks for them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "polyaxis/core/result.h"
+#include "polyaxis/machine/build_model.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
+
+namespace polyaxis::verify {
+
+// A process-on move whose tip speed is below this share of the deposit feed stalls the tip.
+inline constexpr double kStallShare = 0.5;
+// Head clearance below this (mm) is rounding of the words, not a collision.
+inline constexpr double kClearanceSlackMm = 1e-3;
+
+struct BuildCheck {
+  std::uint64_t samples = 0;               // tool positions checked (every move, sampled)
+  std::uint64_t head_collisions = 0;       // of which with the head below the plate or the table
+  double worst_head_depth_mm = 0.0;        // how far below (≥ 0)
+  std::uint64_t worst_head_line = 0;       // the G-code line where it is deepest
+  std::uint64_t head_collisions_depositing = 0;  // of head_collisions, with the process on
+  std::uint64_t deposit_samples = 0;       // samples on process-on moves
+  std::uint64_t ungrounded_samples = 0;    // of which with nothing under them
+  std::vector<std::int64_t> mid_air_regions;  // regions whose first deposit is not grounded
+  double ground_mm = 0.0;                  // the grounding distances used: along the layer's normal
+  double ground_lateral_mm = 0.0;          // and across it
+  double process_on_s = 0.0;               // feed time of process-on moves
+  double stalled_s = 0.0;                  // of which with the tip below kStallShare of the feed
+  double process_on_dwell_s = 0.0;         // dwells with the process on
+  std::vector<std::string> first_problems; // up to 10, "line 120 (layer 3 region 0): ..."
+};
+
+// Reads GCODE (write_gcode's dialect) on MACHINE and checks it against MODEL. Errors: malformed
+// G-code (kInvalidInput, as simulate). Cost: linear in the tip path / sample spacing.
+core::Result<BuildCheck> verify_build(const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                      const machine::BuildModel& model, std::string_view gcode);
+
+}  // namespace polyaxis::verify

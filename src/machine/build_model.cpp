@@ -1,0 +1,72 @@
+#include "polyaxis/machine/build_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace polyaxis::machine {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A circle of the head: centre S mm up the axis from the tip, radius R mm, about the axis.
+struct HeadCircle {
+  double s_mm, r_mm;
+};
+
+// The surface under a disc centred at (X, Y) of radius R: the plate's top when the disc overlaps
+// the plate's rectangle, the table's top when it overlaps the table, else none (−inf).
+double surface_under(const BuildModel& m, double x, double y, double r) {
+  const SubstratePlate& p = m.substrate;
+  const double dx = std::max({p.x_min_mm - x, 0.0, x - p.x_max_mm}), dy = std::max({p.y_min_mm - y, 0.0, y - p.y_max_mm});
+  if (dx * dx + dy * dy <= r * r) return p.top_z_mm;
+  if (std::hypot(x - m.table_centre_mm.x, y - m.table_centre_mm.y) <= m.table_radius_mm + r) return m.table_top_z_mm();
+  return -std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+BuildModel make_build_model(const MachineConfig& machine, const process::ProcessConfig& process, double x0, double y0, double x1, double y1) {
+  BuildModel m;
+  m.nozzle = machine.nozzle;
+  m.head_boxes = machine.head_boxes;
+  m.table_radius_mm = machine.table.radius_mm;
+  m.table_centre_mm = {machine.pivot.x_rot_point_mm, machine.pivot.y_rot_point_mm, 0.0};
+  const auto& s = process.substrate;
+  const double cx = (x0 + x1) * 0.5, cy = (y0 + y1) * 0.5;
+  const double hx = s.size_x_mm > 0.0 ? s.size_x_mm * 0.5 : (x1 - x0) * 0.5 + s.margin_mm;
+  const double hy = s.size_y_mm > 0.0 ? s.size_y_mm * 0.5 : (y1 - y0) * 0.5 + s.margin_mm;
+  m.substrate = {cx - hx, cy - hy, cx + hx, cy + hy, 0.0, s.thickness_mm};
+  return m;
+}
+
+double tip_clearance_mm(const BuildModel& m, Vec3 tip) { return tip.z - surface_under(m, tip.x, tip.y, 0.0); }
+
+double head_clearance_mm(const BuildModel& m, Vec3 tip, Vec3 axis) {
+  const Vec3 a = core::normalized(axis);
+  const NozzleModel& n = m.nozzle;
+  HeadCircle circles[8];
+  int count = 0;
+  const double cone_top_r = n.cone_height_mm * std::tan(n.tip_half_angle_deg * kPi / 180.0);
+  circles[count++] = {n.cone_height_mm, std::max(cone_top_r, n.cylinder_radius_mm)};
+  circles[count++] = {n.cone_height_mm + n.cylinder_height_mm, n.cylinder_radius_mm};
+  double clearance = std::numeric_limits<double>::infinity();
+  auto visit = [&](HeadCircle c) {
+    const Vec3 centre = tip + a * c.s_mm;
+    // The circle's lowest point drops sin(tilt)·r below its centre.
+    const double drop = c.r_mm * std::sqrt(std::max(0.0, 1.0 - a.z * a.z));
+    clearance = std::min(clearance, centre.z - drop - surface_under(m, centre.x, centre.y, c.r_mm));
+  };
+  for (int k = 0; k < count; ++k) visit(circles[k]);
+  for (const HeadBox& b : m.head_boxes) {
+    double r = 0.0;
+    for (const double x : {b.min_mm[0], b.max_mm[0]}) {
+      for (const double y : {b.min_mm[1], b.max_mm[1]}) r = std::max(r, std::hypot(x, y));
+    }
+    visit({b.min_mm[2], r});
+    visit({b.max_mm[2], r});
+  }
+  return clearance;
+}
+
+}  // namespace polyaxis::machine

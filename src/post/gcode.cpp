@@ -1,0 +1,282 @@
+#include "polyaxis/post/gcode.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+
+#include "polyaxis/core/progress.h"
+#include "polyaxis/io/write_file.h"
+#include "polyaxis/machine/kinematics.h"
+#include "polyaxis/machine/segment.h"
+
+namespace polyaxis::post {
+
+namespace {
+
+// Share of the chordal tolerance given to subdivision; the rest absorbs the rounding of the words.
+constexpr double kSubdivisionShare = 0.8;
+// A deposit block slower than this share of the deposit feed is split into a turn in place with
+// the process off and a bead at the new axis; above verify::kStallShare (0.5), so that the words'
+// rounding cannot bring a block the writer kept under the verifier's limit.
+constexpr double kStallGuardShare = 0.6;
+
+using core::ErrorCode;
+using core::make_error;
+using core::Vec3;
+using machine::MachinePose;
+
+// Words have 4 decimals: 0.1 µm and 0.0001°, the resolution rs274 prints and far below deposition.
+constexpr double kWordScale = 1e4;
+// Any axis value beyond this is refused as a broken invariant before it becomes a word.
+constexpr double kMaxWordMagnitude = 1e9;
+
+// A pose as the integers of its words (value · 1e4), which is what the controller reads.
+using Words = std::array<std::int64_t, 5>;
+
+std::string fixed4(std::int64_t n) {
+  const std::uint64_t a = n < 0 ? static_cast<std::uint64_t>(-(n + 1)) + 1 : static_cast<std::uint64_t>(n);
+  return fmt::format("{}{}.{:04d}", n < 0 ? "-" : "", a / 10000, a % 10000);
+}
+
+double value_of(std::int64_t n) { return static_cast<double>(n) / kWordScale; }
+
+// Rounds V to a word, staying inside [LO, HI] (rounding never pushes a value past a soft limit).
+bool to_word(double v, double lo, double hi, bool clamp, std::int64_t& out) {
+  if (!std::isfinite(v) || std::abs(v) > kMaxWordMagnitude) return false;
+  std::int64_t n = std::llround(v * kWordScale);
+  if (clamp) {
+    const auto hi_n = static_cast<std::int64_t>(std::floor(hi * kWordScale + 1e-6));
+    const auto lo_n = static_cast<std::int64_t>(std::ceil(lo * kWordScale - 1e-6));
+    if (n > hi_n && v <= hi + machine::kAxisLimitSlack) n = hi_n;
+    if (n < lo_n && v >= lo - machine::kAxisLimitSlack) n = lo_n;
+  }
+  out = n;
+  return true;
+}
+
+MachinePose pose_of(const Words& w) {
+  return {value_of(w[0]), value_of(w[1]), value_of(w[2]), value_of(w[3]), value_of(w[4])};
+}
+
+// F rounded down (never above the value that respects the limits) with at least 4 significant
+// digits; "" when it would round to zero.
+std::string feed_word(double f) {
+  int decimals = 1;
+  if (f < 100.0) decimals = 3;
+  if (f < 1.0) decimals = std::min(12, 4 + static_cast<int>(std::ceil(-std::log10(f))));
+  const double scale = std::pow(10.0, decimals);
+  const auto n = static_cast<std::int64_t>(std::floor(f * scale));
+  if (n <= 0) return {};
+  const auto un = static_cast<std::uint64_t>(n);
+  const auto us = static_cast<std::uint64_t>(std::llround(scale));
+  return fmt::format("{}.{:0{}d}", un / us, un % us, decimals);
+}
+
+// Comment text is free text from configs and the toolpath: nothing may close the comment early,
+// start another or leave the line.
+std::string sanitize_comment(std::string_view s) {
+  std::string out;
+  for (const char ch : s) {
+    if (ch == '(') out += '[';
+    else if (ch == ')') out += ']';
+    else if (ch == ';') out += ',';
+    else if (ch < 0x20 || ch > 0x7e) out += '?';
+    else out += ch;
+  }
+  return out;
+}
+
+class Writer {
+ public:
+  Writer(const machine::MachineConfig& m, const GcodeOptions& o) : m_(m), o_(o), five_(machine::has_rotary_axes(m.kind)) {}
+
+  void line(std::string_view s) {
+    out_ += s;
+    out_ += '\n';
+  }
+
+  // One block to POSE; MOTION is "G0" or "G1"; FEED_MM_S is the planned tip speed (G1 only).
+  core::Status move(const MachinePose& pose, bool rapid, double feed_mm_s, std::string_view where) {
+    Words w{};
+    const std::array<double, 5> v{pose.x_mm, pose.y_mm, pose.z_mm, pose.a_or_b_deg, pose.c_deg};
+    const std::array<machine::AxisRange, 5> r{m_.x_mm, m_.y_mm, m_.z_mm, m_.tilt_deg, m_.c_deg};
+    const std::array<char, 5> letter{'X', 'Y', 'Z', machine::tilt_axis_letter(m_.kind), 'C'};
+    const int n_axes = five_ ? 5 : 3;
+    for (int k = 0; k < n_axes; ++k) {
+      const bool clamp = !(k == 4 && m_.c_continuous);
+      if (!to_word(v[k], r[k].min, r[k].max, clamp, w[k])) {
+        return make_error(ErrorCode::kInternal, fmt::format("{}: {} would be {} (not a finite number)", where, letter[k], v[k]));
+      }
+    }
+    if (have_last_ && w == last_) return {};  // nothing moves at the words' resolution
+    const MachinePose target = pose_of(w);
+    // Soft limits once more on the words themselves (the IK checked the exact values).
+    if (std::string bad = machine::limit_violation(m_, target); !bad.empty()) {
+      return make_error(ErrorCode::kMachineLimit, fmt::format("{}: {} in {}", where, bad, machine::format_pose(m_, target)));
+    }
+    std::string block = rapid ? "G0" : "G1";
+    for (int k = 0; k < n_axes; ++k) block += fmt::format(" {}{}", letter[k], fixed4(w[k]));
+    if (!rapid) {
+      if (!have_last_) {
+        return make_error(ErrorCode::kInternal, fmt::format("{}: a feed move without a known start", where));
+      }
+      std::string f = feed(last_, w, feed_mm_s);
+      if (f.empty()) {
+        return make_error(ErrorCode::kInternal, fmt::format("{}: the feed rounds to zero in {}", where, block));
+      }
+      if (f != last_feed_) {
+        block += " F" + f;
+        last_feed_ = std::move(f);
+      }
+    }
+    line(block);
+    last_ = w;
+    have_last_ = true;
+    return {};
+  }
+
+  bool over_cap() const { return o_.max_output_bytes != 0 && out_.size() > o_.max_output_bytes; }
+  std::string take() { return std::move(out_); }
+
+ private:
+  // Feed word for the block A → B (see the header for LinuxCNC's reading of F).
+  std::string feed(const Words& a, const Words& b, double feed_mm_s) const {
+    const MachinePose pa = pose_of(a), pb = pose_of(b);
+    const double l_part = norm(machine::forward(m_, pb).tip_part_mm - machine::forward(m_, pa).tip_part_mm);
+    const double l_xyz = norm(Vec3{pb.x_mm - pa.x_mm, pb.y_mm - pa.y_mm, pb.z_mm - pa.z_mm});
+    const double d_tilt = std::abs(pb.a_or_b_deg - pa.a_or_b_deg), d_c = std::abs(pb.c_deg - pa.c_deg);
+    const double l_rot = std::hypot(d_tilt, d_c);
+    // Duration in minutes: the planned tip speed, slowed until every axis is within its maximum.
+    double t_min = std::max({l_part / (feed_mm_s * 60.0), l_xyz / m_.feed.linear_max_mm_min,
+                             std::max(d_tilt, d_c) / m_.feed.rotary_max_deg_min});
+    if (l_xyz > 0.0) return feed_word(l_xyz / t_min);
+    // Rotary only: F is degrees/min along the combined rotary motion, itself within the rotary maximum.
+    t_min = std::max(t_min, l_rot / m_.feed.rotary_max_deg_min);
+    return feed_word(l_rot / t_min);
+  }
+
+  const machine::MachineConfig& m_;
+  const GcodeOptions& o_;
+  const bool five_;
+  std::string out_;
+  Words last_{};
+  bool have_last_ = false;
+  std::string last_feed_;
+};
+
+// True when a block of POSES (from PREV) would leave the tip below kStallGuardShare of FEED_MM_S
+// because a rotary or linear axis limit sets its duration.
+bool stalls(const machine::MachineConfig& m, const MachinePose& prev, const std::vector<MachinePose>& poses, double feed_mm_s) {
+  MachinePose a = prev;
+  Vec3 tip_a = machine::forward(m, a).tip_part_mm;
+  for (const MachinePose& b : poses) {
+    const Vec3 tip_b = machine::forward(m, b).tip_part_mm;
+    const double l_part = norm(tip_b - tip_a);
+    const double l_xyz = norm(Vec3{b.x_mm - a.x_mm, b.y_mm - a.y_mm, b.z_mm - a.z_mm});
+    const double rot = std::max(std::abs(b.a_or_b_deg - a.a_or_b_deg), std::abs(b.c_deg - a.c_deg));
+    const double t_s = std::max({l_part / feed_mm_s, l_xyz / (m.feed.linear_max_mm_min / 60.0), rot / (m.feed.rotary_max_deg_min / 60.0)});
+    if (t_s > 0.0 && l_part / t_s < kStallGuardShare * feed_mm_s) return true;
+    a = b;
+    tip_a = tip_b;
+  }
+  return false;
+}
+
+std::string where_of(std::size_t i, const ProgramPoint& pt) {
+  return fmt::format("move to point {} (layer {} region {}, tip ({:.4f}, {:.4f}, {:.4f}), axis ({:.4f}, {:.4f}, {:.4f}))", i,
+                     pt.layer, pt.region, pt.tip_part_mm.x, pt.tip_part_mm.y, pt.tip_part_mm.z, pt.tool_axis_part.x,
+                     pt.tool_axis_part.y, pt.tool_axis_part.z);
+}
+
+}  // namespace
+
+core::Result<std::string> write_gcode(const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                      std::span<const ProgramPoint> points, const GcodeOptions& options) {
+  if (points.empty()) return make_error(ErrorCode::kInfeasible, "no program points to write");
+  Writer w(machine, options);
+  w.line(fmt::format("(polyaxis: machine {} [{}], process {})", sanitize_comment(machine.name),
+                     machine::kinematics_name(machine.kind), sanitize_comment(process.name)));
+  w.line("(axis words are joint positions: run with identity kinematics)");
+  w.line("G21 G90 G94 G17");
+
+  bool process_on = false;
+  std::uint64_t stall_splits = 0;
+  MachinePose prev{};
+  core::Progress progress("G-code", points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if ((i & 4095) == 0) progress.update(i);
+    const ProgramPoint& pt = points[i];
+    if (!core::is_finite(pt.tip_part_mm) || !core::is_finite(pt.tool_axis_part) || !std::isfinite(pt.feed_mm_s) ||
+        !(norm(pt.tool_axis_part) > 0.0) || !(pt.feed_mm_s > 0.0)) {
+      return make_error(ErrorCode::kInternal,
+                        fmt::format("{}: a non-finite or zero value (feed {} mm/s)", where_of(i, pt), pt.feed_mm_s));
+    }
+    const std::string where = where_of(i, pt);
+    if (!pt.comment_if_new_block.empty()) {
+      w.line(fmt::format("(layer {} region {} {})", pt.layer, pt.region, sanitize_comment(pt.comment_if_new_block)));
+    }
+    if (i == 0) {
+      auto pose = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, nullptr);
+      if (!pose) return make_error(pose.error().code, fmt::format("{}: {}", where, pose.error().message));
+      if (auto st = w.move(pose.value(), /*rapid=*/true, 0.0, where); !st) return st.error();
+      prev = pose.value();
+      continue;
+    }
+    const ProgramPoint& from = points[i - 1];
+    // The written words are rounded (0.1 µm, 0.0001°): keep that share of the tolerance in hand
+    // so the tip read back from the file stays within options.chordal_mm.
+    const double tol = options.chordal_mm * kSubdivisionShare;
+    auto poses = machine::subdivide(machine, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev, tol);
+    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, poses.error().message));
+    if (pt.process_on && stalls(machine, prev, poses.value(), pt.feed_mm_s)) {
+      // The rotary axes cannot keep up with the tip here: turn the tool in place with the process
+      // off, then lay the bead with the new axis (verify/verify.h, stall).
+      ++stall_splits;
+      auto turn = machine::subdivide(machine, from.tip_part_mm, from.tool_axis_part, from.tip_part_mm, pt.tool_axis_part, prev, tol);
+      if (!turn) return make_error(turn.error().code, fmt::format("{}: {}", where, turn.error().message));
+      if (process_on) w.line(process.process_off), process_on = false;
+      for (const MachinePose& pose : turn.value()) {
+        if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
+      }
+      prev = turn.value().back();
+      poses = machine::subdivide(machine, from.tip_part_mm, pt.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev, tol);
+      if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, poses.error().message));
+    }
+    if (pt.process_on && !process_on) {
+      w.line(process.process_on);
+      if (process.dwell_on_s > 0.0) w.line(fmt::format("G4 P{:.4f}", process.dwell_on_s));
+      process_on = true;
+    } else if (!pt.process_on && process_on) {
+      w.line(process.process_off);
+      process_on = false;
+    }
+    const bool rapid = options.rapid_travel && !pt.process_on;
+    for (const MachinePose& pose : poses.value()) {
+      if (auto st = w.move(pose, rapid, pt.feed_mm_s, where); !st) return st.error();
+    }
+    prev = poses.value().back();
+    if (w.over_cap()) {
+      return make_error(ErrorCode::kOutput,
+                        fmt::format("the program exceeds the output cap of {} bytes at point {}", options.max_output_bytes, i));
+    }
+  }
+  if (process_on) w.line(process.process_off);
+  if (stall_splits > 0) {
+    w.line(fmt::format("(polyaxis: {} turns in place with the process off, where the rotary axes could not keep the deposit feed)",
+                       stall_splits));
+  }
+  w.line("M2");
+  if (w.over_cap()) {
+    return make_error(ErrorCode::kOutput, fmt::format("the program exceeds the output cap of {} bytes", options.max_output_bytes));
+  }
+  return w.take();
+}
+
+core::Status save_gcode(const std::string& path, std::string_view text) {
+  return io::write_file_atomic(path, text, io::Durability::kSynced);
+}
+
+}  // namespace polyaxis::post

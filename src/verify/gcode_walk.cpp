@@ -1,0 +1,258 @@
+#include "gcode_walk.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "polyaxis/core/progress.h"
+
+namespace polyaxis::verify::detail {
+namespace {
+
+using core::ErrorCode;
+using core::make_error;
+using core::Vec3;
+using machine::MachinePose;
+
+struct Word {
+  char letter;
+  double value;
+  std::string_view text;  // as written, e.g. "P0"
+};
+
+// The words of one line, comments removed; nullopt and WHY on malformed text.
+std::optional<std::vector<Word>> tokenize(std::string_view line, std::string& why) {
+  std::vector<Word> words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    const char ch = line[i];
+    if (ch == ' ' || ch == '\t' || ch == '\r') {
+      ++i;
+    } else if (ch == ';') {
+      break;
+    } else if (ch == '(') {
+      const std::size_t close = line.find(')', i);
+      if (close == std::string_view::npos) {
+        why = "unclosed comment";
+        return std::nullopt;
+      }
+      i = close + 1;
+    } else if (std::isalpha(static_cast<unsigned char>(ch))) {
+      const std::size_t start = i++;
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+      const std::size_t num = i;
+      if (i < line.size() && (line[i] == '+' || line[i] == '-')) ++i;
+      std::size_t digits = 0;
+      while (i < line.size() && (std::isdigit(static_cast<unsigned char>(line[i])) || line[i] == '.')) {
+        digits += std::isdigit(static_cast<unsigned char>(line[i])) ? 1 : 0;
+        ++i;
+      }
+      double v = 0.0;
+      const char* first = line.data() + num + (num < line.size() && line[num] == '+' ? 1 : 0);
+      const auto [ptr, ec] = std::from_chars(first, line.data() + i, v);
+      if (digits == 0 || ec != std::errc() || ptr != line.data() + i || !std::isfinite(v)) {
+        why = fmt::format("'{}' is not a letter followed by a number", line.substr(start, std::max<std::size_t>(i - start, 1)));
+        return std::nullopt;
+      }
+      words.push_back({static_cast<char>(std::toupper(static_cast<unsigned char>(ch))), v, line.substr(start, i - start)});
+    } else {
+      why = fmt::format("unexpected character '{}'", ch);
+      return std::nullopt;
+    }
+  }
+  return words;
+}
+
+
+std::string block_text(const std::vector<Word>& words) {
+  std::string s;
+  for (const Word& w : words) {
+    if (!s.empty()) s += ' ';
+    for (const char ch : w.text) {
+      if (ch != ' ' && ch != '\t') s += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    }
+  }
+  return s;
+}
+
+
+// "(layer N region R ...)" at the start of a line: N and R.
+bool layer_comment(std::string_view line, std::int64_t& layer, std::int64_t& region) {
+  std::size_t i = 0;
+  while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+  constexpr std::string_view kHead = "(layer ";
+  if (line.substr(i, kHead.size()) != kHead) return false;
+  i += kHead.size();
+  auto number = [&](std::int64_t& out) {
+    const auto [ptr, ec] = std::from_chars(line.data() + i, line.data() + line.size(), out);
+    if (ec != std::errc()) return false;
+    i = static_cast<std::size_t>(ptr - line.data());
+    return true;
+  };
+  std::int64_t l = 0, r = 0;
+  if (!number(l)) return false;
+  constexpr std::string_view kRegion = " region ";
+  if (line.substr(i, kRegion.size()) != kRegion) return false;
+  i += kRegion.size();
+  if (!number(r)) return false;
+  layer = l, region = r;
+  return true;
+}
+
+}  // namespace
+
+core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode, const process::ProcessConfig* process,
+                        const WalkCallbacks& cb, bool* program_end_out) {
+  const bool five = machine::has_rotary_axes(m.kind);
+  const char tilt = machine::tilt_axis_letter(m.kind);
+  bool program_end = false;
+  std::int64_t layer = -1, region = -1;
+  MachinePose pos{};
+  bool have_position = false;  // false until the first motion block: the machine is anywhere
+  int motion_mode = -1;        // 0 or 1 once set
+  bool inverse_time = false;
+  double feed = 0.0;
+  bool process_on = false;
+
+  std::uint64_t line_no = 0;
+  std::size_t at = 0;
+  while (at <= gcode.size() && !program_end) {
+    const std::size_t nl = gcode.find('\n', at);
+    const std::string_view line = gcode.substr(at, nl == std::string_view::npos ? std::string_view::npos : nl - at);
+    at = nl == std::string_view::npos ? gcode.size() + 1 : nl + 1;
+    ++line_no;
+    auto bad = [&](const std::string& why) {
+      return make_error(ErrorCode::kInvalidInput, fmt::format("G-code line {}: {}: {}", line_no, why, line));
+    };
+    std::string why;
+    const auto words = tokenize(line, why);
+    if (!words) return bad(why);
+    if (words->empty()) {
+      layer_comment(line, layer, region);
+      continue;
+    }
+
+    if (process != nullptr) {
+      const std::string text = block_text(*words);
+      if (text == process->process_on) process_on = true;
+      if (text == process->process_off) process_on = false;
+    }
+    std::optional<int> block_motion;
+    bool dwell = false;
+    std::array<std::optional<double>, 6> axis{};  // X Y Z A B C
+    std::optional<double> f_word;
+    for (const Word& w : *words) {
+      switch (w.letter) {
+        case 'G': {
+          const double g = w.value;
+          if (g == 0.0 || g == 1.0) {
+            if (block_motion || dwell) return bad("two motion codes in one block");
+            block_motion = static_cast<int>(g);
+          } else if (g == 4.0) {
+            if (block_motion) return bad("two motion codes in one block");
+            dwell = true;
+          } else if (g == 93.0) {
+            inverse_time = true;
+          } else if (g == 94.0) {
+            inverse_time = false;
+          } else if (g == 17.0 || g == 21.0 || g == 90.0) {
+            // the only plane, unit and distance modes the writer uses
+          } else {
+            return bad(fmt::format("G{} is not supported (the simulator reads G0 G1 G4 G17 G21 G90 G93 G94)", w.text.substr(1)));
+          }
+          break;
+        }
+        case 'M':
+          if (w.value == 2.0 || w.value == 30.0) program_end = true;
+          break;
+        case 'X': axis[0] = w.value; break;
+        case 'Y': axis[1] = w.value; break;
+        case 'Z': axis[2] = w.value; break;
+        case 'A':
+        case 'B':
+        case 'C': {
+          if (!five || (w.letter != 'C' && w.letter != tilt)) {
+            return bad(fmt::format("{} word, but machine '{}' ({}) has no {} axis", w.letter, m.name,
+                                   machine::kinematics_name(m.kind), w.letter));
+          }
+          axis[static_cast<std::size_t>(3 + (w.letter - 'A'))] = w.value;
+          break;
+        }
+        case 'F':
+          if (!(w.value > 0.0)) return bad("F must be > 0");
+          f_word = w.value;
+          break;
+        case 'P':
+        case 'S':
+        case 'N': break;
+        default: return bad(fmt::format("unsupported word '{}'", w.letter));
+      }
+    }
+    if (f_word) feed = *f_word;
+    if (block_motion) motion_mode = *block_motion;
+    const bool has_axis = std::any_of(axis.begin(), axis.end(), [](const auto& v) { return v.has_value(); });
+    if (dwell) {
+      double seconds = 0.0;
+      for (const Word& w : *words) {
+        if (w.letter == 'P') seconds = w.value;
+      }
+      if (cb.dwell) cb.dwell(line_no, seconds, process_on);
+      continue;
+    }
+    if (!has_axis) continue;
+    if (motion_mode < 0) return bad("axis words without G0 or G1 in effect");
+
+    MachinePose target = pos;
+    if (axis[0]) target.x_mm = *axis[0];
+    if (axis[1]) target.y_mm = *axis[1];
+    if (axis[2]) target.z_mm = *axis[2];
+    if (axis[3]) target.a_or_b_deg = *axis[3];
+    if (axis[4]) target.a_or_b_deg = *axis[4];
+    if (axis[5]) target.c_deg = *axis[5];
+
+    const bool rapid = motion_mode == 0;
+    if (!rapid && (inverse_time ? !f_word : !(feed > 0.0))) {
+      return bad(inverse_time ? "G93 needs F on every feed move" : "feed move without a feed rate (F)");
+    }
+    if (cb.target) cb.target(line_no, target, line);
+    WalkMove mv;
+    mv.line = line_no;
+    mv.from = pos;
+    mv.to = target;
+    mv.rapid = rapid;
+    mv.f_word = f_word;
+    mv.feed = feed;
+    mv.inverse_time = inverse_time;
+    mv.process_on = process_on;
+    mv.layer = layer;
+    mv.region = region;
+    if (!have_position) {
+      mv.from_known = false;
+      if (cb.move) cb.move(mv);
+      pos = target;
+      have_position = true;
+      continue;
+    }
+    mv.l_xyz_mm = norm(Vec3{target.x_mm - pos.x_mm, target.y_mm - pos.y_mm, target.z_mm - pos.z_mm});
+    mv.d_tilt_deg = std::abs(target.a_or_b_deg - pos.a_or_b_deg);
+    mv.d_c_deg = std::abs(target.c_deg - pos.c_deg);
+    const double l_rot = std::hypot(mv.d_tilt_deg, mv.d_c_deg);
+    if (mv.l_xyz_mm == 0.0 && l_rot == 0.0) continue;
+    if (!rapid) {
+      // Duration (minutes) as LinuxCNC reads F: XYZ path speed, else rotary speed, or 1/F in G93.
+      mv.time_min = inverse_time ? 1.0 / *f_word : (mv.l_xyz_mm > 0.0 ? mv.l_xyz_mm / feed : l_rot / feed);
+    }
+    if (cb.move) cb.move(mv);
+    pos = target;
+  }
+  if (program_end_out != nullptr) *program_end_out = program_end;
+  return {};
+}
+
+}  // namespace polyaxis::verify::detail

@@ -1,0 +1,42 @@
+// Reading the G-code dialect write_gcode writes, block by block, for the simulator and the build
+// verifier: modal state (G0/G1, G93/G94, F), axis words as joint positions, the process switched
+// by the process file's codes, dwells, and the "(layer N region R ...)" comments.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string_view>
+
+#include "polyaxis/core/result.h"
+#include "polyaxis/machine/kinematics.h"
+#include "polyaxis/process/process.h"
+
+namespace polyaxis::verify::detail {
+
+struct WalkMove {
+  std::uint64_t line = 0;
+  machine::MachinePose from, to;
+  bool from_known = true;   // false for the first motion block: the machine was anywhere
+  bool rapid = false;
+  double time_min = 0.0;    // as LinuxCNC reads F (G1 only; 0 for rapids and the first move)
+  double l_xyz_mm = 0.0, d_tilt_deg = 0.0, d_c_deg = 0.0;
+  std::optional<double> f_word;  // the block's own F, if any
+  double feed = 0.0;        // the modal feed
+  bool inverse_time = false;
+  bool process_on = false;
+  std::int64_t layer = -1, region = -1;  // from the last "(layer N region R" comment, -1 before one
+};
+
+struct WalkCallbacks {
+  std::function<void(const WalkMove&)> move;                       // every block that moves an axis
+  std::function<void(std::uint64_t line, double seconds, bool process_on)> dwell;  // G4 P…
+  std::function<void(std::uint64_t line, const machine::MachinePose&, std::string_view)> target;  // every axis block, before limits
+};
+
+// Walks GCODE on MACHINE. kInvalidInput naming the line for malformed or unsupported G-code (see
+// simulate.h). Sets *PROGRAM_END when M2/M30 is seen (reading stops there).
+core::Status walk_gcode(const machine::MachineConfig& machine, std::string_view gcode, const process::ProcessConfig* process,
+                        const WalkCallbacks& callbacks, bool* program_end);
+
+}  // namespace polyaxis::verify::detail

@@ -1,0 +1,256 @@
+#include "polyaxis/verify/verify.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <array>
+#include <unordered_map>
+
+#include <tbb/parallel_for.h>
+
+#include "gcode_walk.h"
+#include "polyaxis/machine/kinematics.h"
+
+namespace polyaxis::verify {
+namespace {
+
+using core::Vec3;
+using machine::MachinePose;
+
+constexpr std::size_t kMaxProblems = 10;
+// Samples along a move: at most this far apart (share of the bead) and this much rotation apart.
+constexpr double kSampleBeadShare = 0.25;
+constexpr double kSampleDeg = 1.0;
+
+MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
+  return {a.x_mm + (b.x_mm - a.x_mm) * u, a.y_mm + (b.y_mm - a.y_mm) * u, a.z_mm + (b.z_mm - a.z_mm) * u,
+          a.a_or_b_deg + (b.a_or_b_deg - a.a_or_b_deg) * u, a.c_deg + (b.c_deg - a.c_deg) * u};
+}
+
+// Earlier deposit, bucketed in cubes of the grounding distance.
+class DepositGrid {
+ public:
+  explicit DepositGrid(double cell_mm) : cell_(cell_mm) {}
+  void add(Vec3 p) {
+    cells_[key(cell(p.x), cell(p.y), cell(p.z))].push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
+  }
+  // True when PRED holds for a stored point in the cells around P; the cell holding HINT (where
+  // a match is most likely) is searched first.
+  template <typename Pred>
+  bool any(Vec3 p, Vec3 hint, Pred pred) const {
+    auto visit = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+      const auto it = cells_.find(key(x, y, z));
+      if (it == cells_.end()) return false;
+      for (const auto& q : it->second) {
+        if (pred(Vec3{q[0], q[1], q[2]})) return true;
+      }
+      return false;
+    };
+    const std::int64_t hx = cell(hint.x), hy = cell(hint.y), hz = cell(hint.z);
+    if (visit(hx, hy, hz)) return true;
+    const std::int64_t cx = cell(p.x), cy = cell(p.y), cz = cell(p.z);
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          if (cx + dx == hx && cy + dy == hy && cz + dz == hz) continue;
+          if (visit(cx + dx, cy + dy, cz + dz)) return true;
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  std::int64_t cell(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
+  static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
+    // 21 bits a coordinate: cells of ~1 mm cover ±1 km.
+    auto b = [](std::int64_t v) { return static_cast<std::uint64_t>(v + (1 << 20)) & 0x1FFFFF; };
+    return b(x) << 42 | b(y) << 21 | b(z);
+  }
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<std::array<float, 3>>> cells_;
+};
+
+// A layer's deposit samples, held until the layer ends: its plane is fitted to all of them.
+struct Pending {
+  Vec3 tip, axis;
+  std::uint64_t line;
+  std::int64_t layer, region;
+  bool first_of_region;
+};
+
+// The unit eigenvector of the smallest eigenvalue of the symmetric 3×3 matrix C (Jacobi), and
+// the middle eigenvalue (to tell a plane from a line).
+Vec3 smallest_eigenvector(double c[3][3], double& middle) {
+  double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    const double off = c[0][1] * c[0][1] + c[0][2] * c[0][2] + c[1][2] * c[1][2];
+    if (off < 1e-30) break;
+    for (int p = 0; p < 2; ++p) {
+      for (int q = p + 1; q < 3; ++q) {
+        if (std::abs(c[p][q]) < 1e-300) continue;
+        const double theta = (c[q][q] - c[p][p]) / (2.0 * c[p][q]);
+        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double cs = 1.0 / std::sqrt(t * t + 1.0), sn = t * cs;
+        for (int k = 0; k < 3; ++k) {  // C ← Jᵀ C J, V ← V J
+          const double ckp = c[k][p], ckq = c[k][q];
+          c[k][p] = cs * ckp - sn * ckq;
+          c[k][q] = sn * ckp + cs * ckq;
+        }
+        for (int k = 0; k < 3; ++k) {
+          const double cpk = c[p][k], cqk = c[q][k];
+          c[p][k] = cs * cpk - sn * cqk;
+          c[q][k] = sn * cpk + cs * cqk;
+        }
+        for (int k = 0; k < 3; ++k) {
+          const double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = cs * vkp - sn * vkq;
+          v[k][q] = sn * vkp + cs * vkq;
+        }
+      }
+    }
+  }
+  int order[3] = {0, 1, 2};
+  std::sort(order, order + 3, [&](int a, int b) { return c[a][a] < c[b][b]; });
+  middle = c[order[1]][order[1]];
+  return core::normalized(Vec3{v[0][order[0]], v[1][order[0]], v[2][order[0]]});
+}
+
+// The normal of the plane a layer's samples lie on, turned to the side of their mean tool axis;
+// for samples along one line (or fewer than three), the mean axis made square to that line.
+Vec3 layer_normal(const std::vector<Pending>& samples, double spread_mm) {
+  Vec3 mean, axis;
+  for (const Pending& s : samples) mean = mean + s.tip, axis = axis + s.axis;
+  mean = mean / static_cast<double>(samples.size());
+  axis = core::normalized(axis);
+  double c[3][3] = {};
+  for (const Pending& s : samples) {
+    const Vec3 d = s.tip - mean;
+    const double e[3] = {d.x, d.y, d.z};
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) c[i][j] += e[i] * e[j];
+    }
+  }
+  for (auto& row : c) {
+    for (double& x : row) x /= static_cast<double>(samples.size());
+  }
+  double middle = 0.0;
+  const Vec3 n = smallest_eigenvector(c, middle);
+  if (samples.size() < 3 || middle < spread_mm * spread_mm) return axis;
+  return core::dot(n, axis) < 0.0 ? n * -1.0 : n;
+}
+
+}  // namespace
+
+core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const process::ProcessConfig& process,
+                                      const machine::BuildModel& model, std::string_view gcode) {
+  BuildCheck out;
+  const double spacing = process.bead_width_mm * kSampleBeadShare;
+  const double step = std::max(process.max_step_bead_share * process.bead_width_mm,
+                               process.layer_max_mm * std::tan(process.self_supporting_deg * std::numbers::pi / 180.0));
+  // Along the layer's normal: the layer below's plane, or the surface of an earlier region the
+  // layer is laid on (its beads' centres half a bead inside it, this layer's half a layer above).
+  const double h_max = std::max(process.layer_max_mm, 0.5 * (process.layer_max_mm + process.bead_width_mm)) + spacing;
+  // Across: the nearest bead centre under a point is at most half a bead away inside a layer, and
+  // a contour steps out by at most `step`; plus the sample spacing (half on each of two paths).
+  const double lateral_max = std::max(0.5 * process.bead_width_mm, step) + spacing;
+  out.ground_mm = h_max;
+  out.ground_lateral_mm = lateral_max;
+  DepositGrid grid(std::hypot(h_max, lateral_max));
+  std::vector<Pending> this_layer;
+  std::int64_t current_layer = -1;
+  std::vector<std::int64_t> regions_started;
+  const machine::SubstratePlate& plate = model.substrate;
+  auto problem = [&](std::uint64_t line, std::int64_t layer, std::int64_t region, const std::string& what) {
+    if (out.first_problems.size() < kMaxProblems) {
+      out.first_problems.push_back(fmt::format("line {} (layer {} region {}): {}", line, layer, region, what));
+    }
+  };
+  auto grounded = [&](Vec3 tip, Vec3 n) {
+    const bool over_plate = tip.x >= plate.x_min_mm && tip.x <= plate.x_max_mm && tip.y >= plate.y_min_mm && tip.y <= plate.y_max_mm;
+    const double above = tip.z - plate.top_z_mm;
+    if (over_plate && above >= -kClearanceSlackMm && above <= h_max) return true;
+    return grid.any(tip, tip - n * (0.5 * h_max), [&](Vec3 q) {
+      const Vec3 d = tip - q;
+      const double h = core::dot(d, n);
+      return h >= -kClearanceSlackMm && h <= h_max && core::norm(d - n * h) <= lateral_max;
+    });
+  };
+  auto end_layer = [&] {
+    if (this_layer.empty()) return;
+    const Vec3 n = layer_normal(this_layer, spacing);
+    // The grid is only read while a layer is checked: its samples in parallel.
+    std::vector<char> ok(this_layer.size());
+    tbb::parallel_for(std::size_t{0}, this_layer.size(), [&](std::size_t i) { ok[i] = grounded(this_layer[i].tip, n) ? 1 : 0; });
+    for (std::size_t i = 0; i < this_layer.size(); ++i) {
+      if (ok[i]) continue;
+      const Pending& p = this_layer[i];
+      ++out.ungrounded_samples;
+      if (p.first_of_region) out.mid_air_regions.push_back(p.region);
+      if (out.ungrounded_samples <= 3) {
+        problem(p.line, p.layer, p.region,
+                fmt::format("deposit at ({:.3f}, {:.3f}, {:.3f}) with no earlier deposit within {:.3f} mm under it and {:.3f} mm across",
+                            p.tip.x, p.tip.y, p.tip.z, h_max, lateral_max));
+      }
+    }
+    for (const Pending& p : this_layer) grid.add(p.tip);
+    this_layer.clear();
+  };
+  auto check_sample = [&](const detail::WalkMove& mv, const machine::MachineToolPose& tp) {
+    ++out.samples;
+    const double c = std::min(machine::head_clearance_mm(model, tp.tip_part_mm, tp.tool_axis_part),
+                              machine::tip_clearance_mm(model, tp.tip_part_mm));
+    if (c < -kClearanceSlackMm) {
+      ++out.head_collisions;
+      if (mv.process_on) ++out.head_collisions_depositing;
+      if (-c > out.worst_head_depth_mm) out.worst_head_depth_mm = -c, out.worst_head_line = mv.line;
+      if (out.head_collisions == 1) problem(mv.line, mv.layer, mv.region, fmt::format("the head is {:.3f} mm into the plate or the table", -c));
+    }
+    if (!mv.process_on) return;
+    ++out.deposit_samples;
+    const bool first_of_region =
+        std::find(regions_started.begin(), regions_started.end(), mv.region) == regions_started.end();
+    if (first_of_region) regions_started.push_back(mv.region);
+    this_layer.push_back({tp.tip_part_mm, tp.tool_axis_part, mv.line, mv.layer, mv.region, first_of_region});
+  };
+  detail::WalkCallbacks cb;
+  cb.dwell = [&](std::uint64_t, double seconds, bool on) {
+    if (on) out.process_on_dwell_s += seconds;
+  };
+  cb.move = [&](const detail::WalkMove& mv) {
+    if (mv.layer != current_layer) end_layer(), current_layer = mv.layer;
+    if (!mv.from_known) return check_sample(mv, machine::forward(m, mv.to));
+    const Vec3 a = machine::forward(m, mv.from).tip_part_mm, b = machine::forward(m, mv.to).tip_part_mm;
+    const double rot = std::max(mv.d_tilt_deg, mv.d_c_deg);
+    const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(b - a) / spacing, rot / kSampleDeg))));
+    double length = 0.0;
+    Vec3 last = a;
+    // With the rotary axes still, forward kinematics is affine in the linear axes: the tip moves
+    // straight from A to B with one tool axis.
+    const bool still = mv.d_tilt_deg == 0.0 && mv.d_c_deg == 0.0;
+    const Vec3 fixed_axis = still ? machine::forward(m, mv.to).tool_axis_part : Vec3{};
+    for (int k = 1; k <= pieces; ++k) {
+      const double u = static_cast<double>(k) / pieces;
+      const machine::MachineToolPose tp = still ? machine::MachineToolPose{a + (b - a) * u, fixed_axis} : machine::forward(m, lerp(mv.from, mv.to, u));
+      length += core::norm(tp.tip_part_mm - last);
+      last = tp.tip_part_mm;
+      check_sample(mv, tp);
+    }
+    if (mv.process_on && !mv.rapid && mv.time_min > 0.0) {
+      const double seconds = mv.time_min * 60.0;
+      out.process_on_s += seconds;
+      if (length / seconds < kStallShare * process.deposit_feed_mm_s) {
+        if (out.stalled_s == 0.0) problem(mv.line, mv.layer, mv.region, fmt::format("the tip moves {:.3f} mm in {:.3f} s with the process on", length, seconds));
+        out.stalled_s += seconds;
+      }
+    }
+  };
+  bool end = false;
+  if (auto st = detail::walk_gcode(m, gcode, &process, cb, &end); !st) return st.error();
+  end_layer();
+  return out;
+}
+
+}  // namespace polyaxis::verify

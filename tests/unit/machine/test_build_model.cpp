@@ -1,0 +1,101 @@
+// The physical build model (machine/build_model.h): the head's clearance over the plate and the table.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "polyaxis/machine/build_model.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
+
+namespace polyaxis::machine {
+namespace {
+
+using process::parse_process;
+using process::default_process_json;
+using process::ProcessConfig;
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Fixture {
+  MachineConfig m = parse_machine(default_machine_json(), "m").value();
+  ProcessConfig p = parse_process(default_process_json(), "p").value();
+  BuildModel model = make_build_model(m, p, -20, -30, 20, 30);
+};
+
+TEST(BuildModel, ThePlateIsTheFootprintGrownByItsMargin) {
+  const Fixture f;
+  EXPECT_DOUBLE_EQ(f.model.substrate.x_min_mm, -30.0);
+  EXPECT_DOUBLE_EQ(f.model.substrate.x_max_mm, 30.0);
+  EXPECT_DOUBLE_EQ(f.model.substrate.y_min_mm, -40.0);
+  EXPECT_DOUBLE_EQ(f.model.substrate.y_max_mm, 40.0);
+  EXPECT_DOUBLE_EQ(f.model.table_top_z_mm(), -10.0);
+  ProcessConfig sized = f.p;
+  sized.substrate.size_x_mm = 100, sized.substrate.size_y_mm = 50;
+  const BuildModel b = make_build_model(f.m, sized, 0, 0, 20, 20);
+  EXPECT_DOUBLE_EQ(b.substrate.x_min_mm, -40.0);
+  EXPECT_DOUBLE_EQ(b.substrate.y_max_mm, 35.0);
+}
+
+TEST(BuildModel, ClearanceOfTheConeAndCylinderAtEveryTilt) {
+  const Fixture f;
+  for (double deg = 0.0; deg <= 90.0; deg += 7.5) {
+    const double t = deg * kPi / 180.0;
+    const Vec3 axis{std::sin(t), 0.0, std::cos(t)};
+    // Lowest head point below the tip: the cylinder's bottom rim (r 25 at 20 mm) or its top rim
+    // (at 170 mm), or nothing when upright.
+    const double rim = std::min({20.0 * std::cos(t) - 25.0 * std::sin(t), 170.0 * std::cos(t) - 25.0 * std::sin(t), 20.0 * std::cos(t)});
+    EXPECT_NEAR(head_clearance_mm(f.model, {0, 0, 3}, axis), 3.0 + rim, 1e-9) << deg;
+  }
+  // Upright, the head is 20 mm above the tip; about 38.7° tilt the rim reaches the tip's height.
+  EXPECT_NEAR(head_clearance_mm(f.model, {0, 0, 0}, {0, 0, 1}), 20.0, 1e-9);
+  const double t = std::atan(20.0 / 25.0);
+  EXPECT_NEAR(head_clearance_mm(f.model, {0, 0, 0}, {std::sin(t), 0, std::cos(t)}), 0.0, 1e-9);
+}
+
+TEST(BuildModel, BeyondThePlateTheTableCounts) {
+  const Fixture f;
+  // Tip 5 mm over the table (z −5), 100 mm out beside the plate, tilted 60° away from it: the rim
+  // (r 25) is 21.65 − 10 = 11.65 mm below the tip, over the table (top −10): 6.65 mm into it.
+  const double t = 60.0 * kPi / 180.0;
+  EXPECT_NEAR(head_clearance_mm(f.model, {100, 0, -5}, {std::sin(t), 0, std::cos(t)}), -5.0 - 11.650635094610966 + 10.0, 1e-9);
+  EXPECT_NEAR(tip_clearance_mm(f.model, {100, 0, -5}), 5.0, 1e-12);
+  EXPECT_NEAR(tip_clearance_mm(f.model, {0, 0, -0.5}), -0.5, 1e-12);  // under the plate's top
+  // Off the table altogether: nothing under the head.
+  EXPECT_TRUE(std::isinf(head_clearance_mm(f.model, {1000, 0, -50}, {0, 0, 1})));
+}
+
+TEST(BuildModel, HeadBoxesSweptAboutTheAxis) {
+  Fixture f;
+  // A feeder box 40 mm to the side, from 30 to 60 mm up the nozzle.
+  HeadBox box;
+  box.min_mm[0] = 30, box.max_mm[0] = 40, box.min_mm[1] = -5, box.max_mm[1] = 5, box.min_mm[2] = 30, box.max_mm[2] = 60;
+  f.model.head_boxes.push_back(box);
+  const double r = std::hypot(40.0, 5.0);
+  const double t = 45.0 * kPi / 180.0;
+  const Vec3 axis{std::sin(t), 0, std::cos(t)};
+  const double expected = std::min({20.0 * std::cos(t) - 25.0 * std::sin(t), 30.0 * std::cos(t) - r * std::sin(t)});
+  EXPECT_NEAR(head_clearance_mm(f.model, {0, 0, 50}, axis), 50.0 + expected, 1e-9);
+}
+
+TEST(BuildModel, MachineFileKeys) {
+  auto m = parse_machine(R"({"name":"x","kinematics":"xyz","limits":{"x":{"min":0,"max":1},"y":{"min":0,"max":1},"z":{"min":0,"max":1}},
+    "feed":{"linear_max_mm_min":100},"table":{"radius_mm":120},"head_boxes":[{"min_mm":[0,0,30],"max_mm":[10,10,40]}]})",
+                         "m");
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_DOUBLE_EQ(m.value().table.radius_mm, 120.0);
+  ASSERT_EQ(m.value().head_boxes.size(), 1u);
+  EXPECT_DOUBLE_EQ(m.value().head_boxes[0].max_mm[2], 40.0);
+  auto bad = parse_machine(R"({"name":"x","kinematics":"xyz","limits":{"x":{"min":0,"max":1},"y":{"min":0,"max":1},"z":{"min":0,"max":1}},
+    "feed":{"linear_max_mm_min":100},"head_boxes":[{"min_mm":[0,0,50],"max_mm":[10,10,40]}]})",
+                           "m");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("head_boxes[0]"), std::string::npos) << bad.error().message;
+  auto p = parse_process(R"({"name":"p","bead_width_mm":1,"layer_mm":0.5,"deposit_feed_mm_s":5,"travel_feed_mm_s":50,
+    "process_on":"M64 P0","process_off":"M65 P0","max_step_bead_share":1.5})",
+                         "p");
+  ASSERT_FALSE(p.ok());
+  EXPECT_NE(p.error().message.find("max_step_bead_share"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace polyaxis::machine
