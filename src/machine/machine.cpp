@@ -24,7 +24,7 @@ constexpr std::string_view kDefaultMachine = R"({
     "y": {"min": -400, "max": 400},
     "z": {"min": -200, "max": 600},
     "a": {"min": -120, "max": 120},
-    "c": {"continuous": true}
+    "c": {"continuous": true, "unwind": false}
   },
   "pivot": {
     "x_rot_point_mm": 0,
@@ -101,6 +101,20 @@ char tilt_axis_letter(Kinematics kind) {
 
 std::string_view default_machine_json() { return kDefaultMachine; }
 
+bool unwinds_c(const MachineConfig& m) { return has_rotary_axes(m.kind) && (!m.c_continuous || m.c_unwind); }
+
+double unwound_c_deg(const MachineConfig& m, double c_deg, double sweep_min_deg, double sweep_max_deg) {
+  const double centre = m.c_continuous ? 0.0 : 0.5 * (m.c_deg.min + m.c_deg.max);
+  const double mid = 0.5 * (sweep_min_deg + sweep_max_deg);
+  const double k0 = std::round((centre - c_deg - mid) / 360.0);
+  if (m.c_continuous) return c_deg + 360.0 * k0;
+  for (const double dk : {0.0, -1.0, 1.0}) {
+    const double c = c_deg + 360.0 * (k0 + dk);
+    if (c + sweep_min_deg >= m.c_deg.min && c + sweep_max_deg <= m.c_deg.max) return c;
+  }
+  return c_deg + 360.0 * k0;
+}
+
 core::Result<MachineConfig> parse_machine(std::string_view text, const std::string& source) {
   auto doc = core::detail::parse_document(text, source);
   if (!doc) return doc.error();
@@ -150,10 +164,13 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
   if (five) {
     m.tilt_deg = read_range(r, limits, tilt);
     const json& c = limits.at("c");
-    if (r.check_object(c, "limits.c", {"min", "max", "continuous"})) {
+    if (r.check_object(c, "limits.c", {"min", "max", "continuous", "unwind"})) {
       m.c_continuous = r.boolean(c, "limits.c", "continuous", false);
+      m.c_unwind = r.boolean(c, "limits.c", "unwind", false);
       if (m.c_continuous && (c.contains("min") || c.contains("max"))) {
         r.fail("'limits.c.min'/'limits.c.max' are given but 'limits.c.continuous' is true; give one or the other");
+      } else if (!m.c_continuous && c.contains("unwind")) {
+        r.fail("'limits.c.unwind' applies to a continuous C; a C with end stops is always unwound");
       } else if (!m.c_continuous) {
         m.c_deg.min = r.number(c, "limits.c", "min", std::nullopt);
         m.c_deg.max = r.number(c, "limits.c", "max", std::nullopt);

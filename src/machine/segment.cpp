@@ -84,6 +84,26 @@ double distance_to_segment(Vec3 q, Vec3 a, Vec3 b) {
   return norm(q - (a + ab * s));
 }
 
+core::Result<std::vector<MachinePose>> turn_c_in_place(const MachineConfig& machine, const MachinePose& start, double target_c_deg,
+                                                       double chordal_mm) {
+  std::vector<MachinePose> out;
+  if (target_c_deg == start.c_deg) return out;
+  const double tilt_rad = std::abs(start.a_or_b_deg) * std::numbers::pi / 180.0;
+  if (!has_rotary_axes(machine.kind) ||
+      !(tilt_rad < kSingularTiltRad || std::abs(tilt_rad - std::numbers::pi) < kSingularTiltRad)) {
+    return core::make_error(core::ErrorCode::kInternal,
+                            fmt::format("C can only turn in place with the tool along C, not at {}", format_pose(machine, start)));
+  }
+  const MachineToolPose at = forward(machine, start);
+  MachinePose hint = start;
+  hint.c_deg = target_c_deg;
+  auto turned = inverse(machine, at.tip_part_mm, at.tool_axis_part, &hint);
+  if (!turned) return turned.error();
+  Subdivider turn{machine, at.tip_part_mm, at.tip_part_mm, at.tool_axis_part, at.tool_axis_part, 0.0, chordal_mm, out, true};
+  if (auto st = turn.refine(start, 0.0, turned.value(), 1.0, 0); !st) return st.error();
+  return out;
+}
+
 core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, Vec3 p0, Vec3 t0, Vec3 p1, Vec3 t1,
                                                  const MachinePose& start, double chordal_mm) {
   if (!(chordal_mm > 0.0) || !std::isfinite(chordal_mm)) {

@@ -10,6 +10,7 @@
 #include "reach.h"
 #include "support.h"
 #include "transit.h"
+#include "unwind.h"
 
 namespace polyaxis::planner {
 namespace {
@@ -330,6 +331,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
     }
   }
   if (plan.program.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: every layer is thinner than a bead");
+  plan.program = detail::insert_c_unwinds(plan.program, plan.layers.layers, machine);
   for (std::size_t i = 0; i < plan.program.size(); ++i) {
     const post::ProgramPoint& p = plan.program[i];
     if (p.process_on) plan.max_tilt_deg = std::max(plan.max_tilt_deg, angle_deg(p.tool_axis_part, plan.layers.layers[p.layer].frame.d));

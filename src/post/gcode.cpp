@@ -6,6 +6,9 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <numbers>
+#include <optional>
+#include <vector>
 
 #include "polyaxis/core/progress.h"
 #include "polyaxis/io/write_file.h"
@@ -22,6 +25,9 @@ constexpr double kSubdivisionShare = 0.8;
 // the process off and a bead at the new axis; above verify::kStallShare (0.5), so that the words'
 // rounding cannot bring a block the writer kept under the verifier's limit.
 constexpr double kStallGuardShare = 0.6;
+// Consecutive program points whose tilt changes sign while C moves more than this (degrees) are on
+// different solution branches (a pass by the singular axis keeps C).
+constexpr double kBranchJumpDeg = 90.0;
 
 using core::ErrorCode;
 using core::make_error;
@@ -185,6 +191,127 @@ bool stalls(const machine::MachineConfig& m, const MachinePose& prev, const std:
   return false;
 }
 
+// How far C sweeps (degrees, relative to START's C) along POINTS[FROM..] up to the next unwind
+// point, following the inverse kinematics from point to point as the writer will, with C free of
+// end stops; COMPLETE is false where a point has no solution (the writer then reports it).
+struct CSweep {
+  double lo_deg = 0.0, hi_deg = 0.0;
+  bool complete = true;
+};
+
+CSweep c_sweep(const machine::MachineConfig& m, std::span<const ProgramPoint> points, std::size_t from, const MachinePose& start) {
+  machine::MachineConfig free_c = m;
+  free_c.c_continuous = true;
+  MachinePose pose = start;
+  CSweep sweep;
+  for (std::size_t j = from; j < points.size() && !points[j].c_unwind; ++j) {
+    auto next = machine::inverse(free_c, points[j].tip_part_mm, points[j].tool_axis_part, &pose);
+    if (!next) return sweep.complete = false, sweep;
+    pose = next.value();
+    sweep.lo_deg = std::min(sweep.lo_deg, pose.c_deg - start.c_deg);
+    sweep.hi_deg = std::max(sweep.hi_deg, pose.c_deg - start.c_deg);
+  }
+  return sweep;
+}
+
+// The C to turn to at an unwind point (START has the tool along C, so any C holds the tool's
+// orientation): whole turns from START's C, or a half turn more, which makes the next move leave
+// on the other branch (tilt negated). The first whose sweep to the next unwind point fits the
+// range (machine::unwound_c_deg), the nearer one when both fit; kMachineLimit when neither fits a
+// limited C.
+core::Result<double> unwind_target_deg(const machine::MachineConfig& m, std::span<const ProgramPoint> points, std::size_t from,
+                                       const MachinePose& start) {
+  CSweep first;
+  double best = start.c_deg;
+  bool best_fits = false, have = false;
+  for (const double half : {0.0, 180.0}) {
+    MachinePose s = start;
+    s.c_deg += half;
+    const CSweep sweep = c_sweep(m, points, from, s);
+    if (half == 0.0) first = sweep;
+    if (!sweep.complete && have) continue;
+    const double c = machine::unwound_c_deg(m, s.c_deg, sweep.lo_deg, sweep.hi_deg);
+    const bool fits = sweep.complete && (m.c_continuous || (c + sweep.lo_deg >= m.c_deg.min - machine::kAxisLimitSlack &&
+                                                             c + sweep.hi_deg <= m.c_deg.max + machine::kAxisLimitSlack));
+    if (!have || (fits && !best_fits) || (fits == best_fits && std::abs(c - start.c_deg) < std::abs(best - start.c_deg))) {
+      best = c, best_fits = fits, have = true;
+    }
+  }
+  if (!best_fits && !m.c_continuous) {
+    return make_error(ErrorCode::kMachineLimit,
+                      fmt::format("unwinding C: up to the next unwind point C sweeps from {:.1f}° to {:.1f}° relative to here, and "
+                                  "no start ({:.1f}° plus whole or half turns) keeps that inside C's range [{}, {}]",
+                                  first.lo_deg, first.hi_deg, start.c_deg, m.c_deg.min, m.c_deg.max));
+  }
+  return best;
+}
+
+// MESSAGE, or why it failed when the move from PREV to PT takes C past an end stop (the inverse
+// kinematics then wraps C a whole turn, which no straight move follows).
+std::string end_stop_or(const machine::MachineConfig& m, const MachinePose& prev, const ProgramPoint& pt, const std::string& message) {
+  if (m.c_continuous || !machine::has_rotary_axes(m.kind)) return message;
+  machine::MachineConfig free_c = m;
+  free_c.c_continuous = true;
+  auto free = machine::inverse(free_c, pt.tip_part_mm, pt.tool_axis_part, &prev);
+  if (!free || (free.value().c_deg >= m.c_deg.min && free.value().c_deg <= m.c_deg.max)) return message;
+  return fmt::format("C would reach {:.1f}°, beyond its range [{}, {}]: the tool axis winds round the vertical here; unwind "
+                     "points (the tool upright with the process off) must come before it can turn back",
+                     free.value().c_deg, m.c_deg.min, m.c_deg.max);
+}
+
+bool singular(const MachinePose& pose) {
+  const double t = std::abs(pose.a_or_b_deg) * std::numbers::pi / 180.0;
+  return t < machine::kSingularTiltRad || std::abs(t - std::numbers::pi) < machine::kSingularTiltRad;
+}
+
+// How many of POINTS[FROM..] the inverse kinematics follows from START on one solution branch, up
+// to the next point where the tool is along C (where the branch may change freely): it stops at a
+// point with no solution, or where it would have to jump to the other branch (tilt negated, C
+// half a turn away), which no straight move can do.
+std::size_t branch_reach(const machine::MachineConfig& m, std::span<const ProgramPoint> points, std::size_t from,
+                         const MachinePose& start) {
+  MachinePose pose = start;
+  std::size_t j = from;
+  for (; j < points.size(); ++j) {
+    auto next = machine::inverse(m, points[j].tip_part_mm, points[j].tool_axis_part, &pose);
+    if (!next) break;
+    const MachinePose& q = next.value();
+    const bool flipped = pose.a_or_b_deg * q.a_or_b_deg < 0.0 && std::abs(q.c_deg - pose.c_deg) > kBranchJumpDeg;
+    if (flipped) break;
+    pose = q;
+    if (singular(pose) || points[j].c_unwind) return points.size();  // the rest is another stretch
+  }
+  return j;
+}
+
+// The solution branch to follow from a pose where it can be chosen (the first point, or the tool
+// along C with the process off): the graph of candidate solutions along the program has two
+// branches per point, joined only where the tool is along C, so the search compares the two
+// branches over the stretch up to the next such point and keeps the one that goes furthest
+// (the candidates' order breaks ties: the least rotary motion first).
+MachinePose pick_branch(const machine::MachineConfig& m, std::span<const ProgramPoint> points, std::size_t from,
+                        const std::vector<MachinePose>& candidates) {
+  MachinePose best = candidates.front();
+  std::size_t best_reach = 0;
+  for (const MachinePose& c : candidates) {
+    const std::size_t reach = branch_reach(m, points, from, c);
+    if (reach > best_reach) best = c, best_reach = reach;
+    if (reach == points.size()) break;
+  }
+  return best;
+}
+
+// PREV (the tool along C) with C a half turn further inside the limits: the next move leaves on
+// the other branch.
+std::optional<MachinePose> other_branch_at_pole(const machine::MachineConfig& m, const MachinePose& prev) {
+  for (const double half : {180.0, -180.0}) {
+    MachinePose q = prev;
+    q.c_deg += half;
+    if (machine::limit_violation(m, q).empty()) return q;
+  }
+  return std::nullopt;
+}
+
 std::string where_of(std::size_t i, const ProgramPoint& pt) {
   return fmt::format("move to point {} (layer {} region {}, tip ({:.4f}, {:.4f}, {:.4f}), axis ({:.4f}, {:.4f}, {:.4f}))", i,
                      pt.layer, pt.region, pt.tip_part_mm.x, pt.tip_part_mm.y, pt.tip_part_mm.z, pt.tool_axis_part.x,
@@ -203,7 +330,7 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
   w.line("G21 G90 G94 G17");
 
   bool process_on = false;
-  std::uint64_t stall_splits = 0;
+  std::uint64_t stall_splits = 0, unwinds = 0;
   MachinePose prev{};
   core::Progress progress("G-code", points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -218,19 +345,47 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
     if (!pt.comment_if_new_block.empty()) {
       w.line(fmt::format("(layer {} region {} {})", pt.layer, pt.region, sanitize_comment(pt.comment_if_new_block)));
     }
-    if (i == 0) {
-      auto pose = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, nullptr);
-      if (!pose) return make_error(pose.error().code, fmt::format("{}: {}", where, pose.error().message));
-      if (auto st = w.move(pose.value(), /*rapid=*/true, 0.0, where); !st) return st.error();
-      prev = pose.value();
-      continue;
-    }
-    const ProgramPoint& from = points[i - 1];
     // The written words are rounded (0.1 µm, 0.0001°): keep that share of the tolerance in hand
     // so the tip read back from the file stays within options.chordal_mm.
     const double tol = options.chordal_mm * kSubdivisionShare;
+    if (i == 0) {
+      auto pose = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, nullptr);
+      if (!pose) return make_error(pose.error().code, fmt::format("{}: {}", where, pose.error().message));
+      std::vector<MachinePose> candidates{pose.value()};
+      MachinePose hint = pose.value();
+      hint.a_or_b_deg = -hint.a_or_b_deg;
+      hint.c_deg += hint.c_deg > 0.0 ? -180.0 : 180.0;
+      if (auto other = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, &hint)) candidates.push_back(other.value());
+      prev = pick_branch(machine, points, 1, candidates);
+      if (pt.c_unwind && machine::unwinds_c(machine) && singular(prev)) {
+        auto target = unwind_target_deg(machine, points, 1, prev);
+        if (!target) return make_error(target.error().code, fmt::format("{}: {}", where, target.error().message));
+        MachinePose at_target = prev;
+        at_target.c_deg = target.value();
+        auto turned = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, &at_target);
+        if (!turned) return make_error(turned.error().code, fmt::format("{}: {}", where, turned.error().message));
+        prev = turned.value();
+      }
+      if (auto st = w.move(prev, /*rapid=*/true, 0.0, where); !st) return st.error();
+      continue;
+    }
+    const ProgramPoint& from = points[i - 1];
+    if (!process_on && singular(prev) && !from.c_unwind) {
+      // Leaving the singular axis with the process off: the branch is free here (search above).
+      if (auto other = other_branch_at_pole(machine, prev)) {
+        const MachinePose chosen = pick_branch(machine, points, i, {prev, *other});
+        if (chosen.c_deg != prev.c_deg) {
+          auto turn = machine::turn_c_in_place(machine, prev, chosen.c_deg, tol);
+          if (!turn) return make_error(turn.error().code, fmt::format("{}: {}", where, turn.error().message));
+          for (const MachinePose& pose : turn.value()) {
+            if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
+          }
+          if (!turn.value().empty()) prev = turn.value().back();
+        }
+      }
+    }
     auto poses = machine::subdivide(machine, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev, tol);
-    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, poses.error().message));
+    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, end_stop_or(machine, prev, pt, poses.error().message)));
     if (pt.process_on && stalls(machine, prev, poses.value(), pt.feed_mm_s)) {
       // The rotary axes cannot keep up with the tip here: turn the tool in place with the process
       // off, then lay the bead with the new axis (verify/verify.h, stall).
@@ -258,6 +413,17 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
       if (auto st = w.move(pose, rapid, pt.feed_mm_s, where); !st) return st.error();
     }
     prev = poses.value().back();
+    if (pt.c_unwind && !pt.process_on && machine::unwinds_c(machine)) {
+      auto target = unwind_target_deg(machine, points, i + 1, prev);
+      if (!target) return make_error(target.error().code, fmt::format("{}: {}", where, target.error().message));
+      auto turn = machine::turn_c_in_place(machine, prev, target.value(), tol);
+      if (!turn) return make_error(turn.error().code, fmt::format("{}: unwinding C: {}", where, turn.error().message));
+      if (!turn.value().empty()) ++unwinds;
+      for (const MachinePose& pose : turn.value()) {
+        if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
+      }
+      if (!turn.value().empty()) prev = turn.value().back();
+    }
     if (w.over_cap()) {
       return make_error(ErrorCode::kOutput,
                         fmt::format("the program exceeds the output cap of {} bytes at point {}", options.max_output_bytes, i));
@@ -268,6 +434,7 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
     w.line(fmt::format("(polyaxis: {} turns in place with the process off, where the rotary axes could not keep the deposit feed)",
                        stall_splits));
   }
+  if (unwinds > 0) w.line(fmt::format("(polyaxis: C unwound {} times, by whole turns with the tool along C)", unwinds));
   w.line("M2");
   if (w.over_cap()) {
     return make_error(ErrorCode::kOutput, fmt::format("the program exceeds the output cap of {} bytes", options.max_output_bytes));

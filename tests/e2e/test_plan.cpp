@@ -261,6 +261,50 @@ TEST(PlanReach, ADirectionBeyondTheTiltRangeIsRefusedBeforeSlicingAndAWiderMachi
   EXPECT_TRUE(read_json(dir / "report.json")["support_free"].get<bool>());
 }
 
+// Flared cups (solid frusta widening upward) are built with the torch tilted outward all round, so
+// every loop turns C a whole turn. The default continuous C just winds; on a machine whose C stops
+// at ±360° the plan unwinds it with the tool upright between beads, and on the default machine
+// `limits.c.unwind` does the same on request.
+TEST(PlanUnwind, AFlaredCupUnwindsCOnAMachineWithEndStopsAndOnRequest) {
+  struct Cup {
+    const char* name;
+    double r0, r1, h;
+    std::uint32_t sides;
+  };
+  for (const Cup& cup : {Cup{"cup_40deg", 10, 20, 12, 64}, Cup{"cup_33deg", 12, 25, 20, 48}}) {
+    SCOPED_TRACE(cup.name);
+    TempDir dir;
+    const auto stl = dir / (std::string(cup.name) + ".stl");
+    write_file(stl, binary_stl(frustum(cup.r0, cup.r1, cup.h, cup.sides)));
+    auto c_span = [&](const std::string& out) {
+      const auto c = read_json(dir / out / "report.json")["axis_ranges"]["c"];
+      return std::max(-c[0].get<double>(), c[1].get<double>());
+    };
+    const auto wound = run_cli("plan '" + stl.string() + "' --no-html -o '" + (dir / "wound").string() + "'");
+    ASSERT_EQ(wound.exit_code, 0) << wound.err;
+    EXPECT_GT(c_span("wound"), 3600.0);
+
+    std::string machine(machine::default_machine_json());
+    const std::string continuous = R"("c": {"continuous": true, "unwind": false})";
+    machine.replace(machine.find(continuous), continuous.size(), R"("c": {"min": -360, "max": 360})");
+    write_file(dir / "stops.json", machine);
+    const auto out = dir / "stops";
+    const auto r = run_cli("plan '" + stl.string() + "' --machine '" + (dir / "stops.json").string() + "' --no-html -o '" + out.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_LE(c_span("stops"), 360.0);
+    const auto report = read_json(out / "report.json");
+    EXPECT_TRUE(report["support_free"].get<bool>());
+    EXPECT_EQ(report["limit_violations"].get<int>(), 0);
+    EXPECT_NE(slurp(out / (std::string(cup.name) + ".ngc")).find("unwind C"), std::string::npos);
+    check_readback(out, cup.name);
+
+    const auto asked = run_cli("plan '" + stl.string() + "' --set machine.limits.c.unwind=true --no-html -o '" + (dir / "asked").string() + "'");
+    ASSERT_EQ(asked.exit_code, 0) << asked.err;
+    EXPECT_LE(c_span("asked"), 720.0);
+    check_readback(dir / "asked", cup.name);
+  }
+}
+
 TEST(PlanDecomposed, TwoBranchesBuildsEachRegionOnWhatIsBuilt) {
   TempDir dir;
   const Decomposed d = plan_decomposed("two_branches", "", dir);

@@ -46,6 +46,29 @@ inline RawMesh torus(double major, double minor, std::uint32_t n, std::uint32_t 
   return mesh;
 }
 
+// A solid frustum about Z from radius R0 at z = 0 to R1 at z = H, N sides; a flared cup when
+// R1 > R0 (its side overhangs by atan((R1 − R0)/H) from vertical all the way round).
+inline RawMesh frustum(double r0, double r1, double h, std::uint32_t n) {
+  RawMesh mesh;
+  const double two_pi = 2.0 * 3.14159265358979323846;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double u = two_pi * i / n;
+    mesh.points.push_back({r0 * std::cos(u), r0 * std::sin(u), 0.0});
+    mesh.points.push_back({r1 * std::cos(u), r1 * std::sin(u), h});
+  }
+  const auto bottom = static_cast<std::uint32_t>(mesh.points.size());
+  mesh.points.push_back({0.0, 0.0, 0.0});
+  mesh.points.push_back({0.0, 0.0, h});
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t a = 2 * i, b = 2 * ((i + 1) % n);
+    mesh.triangles.push_back({a, b, b + 1});
+    mesh.triangles.push_back({a, b + 1, a + 1});
+    mesh.triangles.push_back({bottom, b, a});
+    mesh.triangles.push_back({bottom + 1, a + 1, b + 1});
+  }
+  return mesh;
+}
+
 // Signed volume of A (divergence theorem), mm³: positive when A is closed and outward.
 inline double signed_volume_of(const RawMesh& a) {
   double v = 0.0;

@@ -79,12 +79,26 @@ struct MachineConfig {
   AxisRange tilt_deg;          // A (xyzac-trt) or B (xyzbc-trt); unused on 3-axis
   AxisRange c_deg;             // unused when c_continuous or on 3-axis
   bool c_continuous = false;   // C turns without end stops
+  // limits.c.unwind: a continuous C is brought back near 0 by whole turns at the program's unwind
+  // points (post::ProgramPoint::c_unwind). A limited C is always unwound there, toward the middle
+  // of its range. See unwinds_c().
+  bool c_unwind = false;
   TrtPivot pivot;
   FeedLimits feed;
   NozzleModel nozzle;
   std::vector<HeadBox> head_boxes;  // optional, "head_boxes" in the file
   TableModel table;
 };
+
+// True when the program should unwind C: a 5-axis machine whose C has end stops, or whose
+// continuous C asks for it (limits.c.unwind).
+bool unwinds_c(const MachineConfig& machine);
+
+// The C (degrees) that an unwind turns to from C_DEG, when C will then sweep over
+// [C + SWEEP_MIN_DEG, C + SWEEP_MAX_DEG] until the next unwind: C_DEG plus whole turns, chosen so
+// that the sweep fits inside a limited range with its middle nearest the range's middle (nearest
+// the middle when it fits nowhere), or is centred nearest 0 on a continuous C.
+double unwound_c_deg(const MachineConfig& machine, double c_deg, double sweep_min_deg, double sweep_max_deg);
 
 // Parses a machine file (JSON; // and /* */ comments allowed). Every problem is ErrorCode::kUsage
 // with SOURCE and the dotted key in the message: unknown or duplicate keys (P6), non-finite or

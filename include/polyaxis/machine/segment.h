@@ -36,6 +36,13 @@ inline constexpr int kMaxSubdivisionDepth = 16;
 core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, Vec3 p0, Vec3 t0, Vec3 p1, Vec3 t1,
                                                  const MachinePose& start, double chordal_mm);
 
+// The poses that turn C from START to TARGET_C_DEG in place: START must have the tool along C (the
+// singular axis), where C does not change the tool's orientation over the part; the linear axes
+// keep the tip within CHORDAL_MM of where it is, and no piece turns C more than kMaxRotaryStepDeg.
+// Empty when C is already there. Errors: kInternal when START is not singular; those of inverse().
+core::Result<std::vector<MachinePose>> turn_c_in_place(const MachineConfig& machine, const MachinePose& start, double target_c_deg,
+                                                       double chordal_mm);
+
 // Distance (mm) from Q to the segment A-B (to A when A == B).
 double distance_to_segment(Vec3 q, Vec3 a, Vec3 b);
 

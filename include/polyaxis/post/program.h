@@ -19,6 +19,10 @@ struct ProgramPoint {
   // Non-empty on the first point of a block (e.g. "perimeter"): written as the comment
   // "(layer 12 region 0 perimeter)" before the move that arrives here.
   std::string comment_if_new_block;
+  // An unwind point: the process is off and the tool is along the table's C axis (vertical in the
+  // part frame), where turning C does not move the tool over the part. On a machine that unwinds
+  // (machine::unwinds_c) the writer turns C here by whole turns (machine::unwound_c_deg).
+  bool c_unwind = false;
 };
 
 }  // namespace polyaxis::post

@@ -75,7 +75,7 @@ TEST(MachineConfig, EveryExampleParses) {
 }
 
 TEST(MachineConfig, P6UnknownAndDuplicateKeys) {
-  EXPECT_NE(machine_error(edit(kAc, R"("c": {"continuous": true})", R"("c": {"continous": true})")).find("limits.c.continous"),
+  EXPECT_NE(machine_error(edit(kAc, R"("c": {"continuous": true,)", R"("c": {"continous": true,)")).find("limits.c.continous"),
             std::string::npos);
   EXPECT_NE(machine_error(edit(kAc, R"("name")", R"("nmae")")).find("'nmae'"), std::string::npos);
   EXPECT_NE(machine_error(edit(kAc, R"("x_rot_point_mm": 0,)", R"("x_rot_point_mm": 0, "x_rot_point_mm": 1,)"))
@@ -108,15 +108,40 @@ TEST(MachineConfig, P4KinematicsAndAxes) {
   EXPECT_NE(msg.find("xyzac-tcp"), std::string::npos);
   EXPECT_NE(msg.find("xyz, xyzac-trt, xyzbc-trt"), std::string::npos) << msg;
   EXPECT_NE(machine_error(edit(kAc, R"(,
-    "c": {"continuous": true})", "")).find("limits.c"),
+    "c": {"continuous": true, "unwind": false})", "")).find("limits.c"),
             std::string::npos);
   // A B limit on an A/C machine is an unknown axis.
   EXPECT_NE(machine_error(edit(kAc, R"("a": {)", R"("b": {)")).find("limits.b"), std::string::npos);
   // Offsets the kinematics does not use are refused rather than ignored.
   EXPECT_NE(machine_error(edit(kAc, R"("y_offset_mm": 0)", R"("x_offset_mm": 5)")).find("x_offset_mm"), std::string::npos);
   // C continuous and end stops at once is contradictory.
-  EXPECT_NE(machine_error(edit(kAc, R"({"continuous": true})", R"({"continuous": true, "max": 5})")).find("limits.c"),
+  EXPECT_NE(machine_error(edit(kAc, R"({"continuous": true,)", R"({"continuous": true, "max": 5,)")).find("limits.c"),
             std::string::npos);
+  // Unwinding is asked of a continuous C; a C with end stops is always unwound.
+  EXPECT_NE(machine_error(edit(kAc, R"({"continuous": true, "unwind": false})", R"({"min": -360, "max": 360, "unwind": true})"))
+                .find("limits.c.unwind"),
+            std::string::npos);
+}
+
+TEST(MachineConfig, UnwindingC) {
+  auto m = parse_machine(edit(kAc, R"("unwind": false)", R"("unwind": true)"), "m.json");
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_TRUE(m.value().c_unwind);
+  EXPECT_TRUE(unwinds_c(m.value()));
+  EXPECT_FALSE(unwinds_c(parse_machine(kAc, "m.json").value()));  // continuous, not asked
+  EXPECT_TRUE(unwinds_c(parse_machine(examples("machines/ded5_bc.json"), "bc").value()));  // end stops
+  EXPECT_FALSE(unwinds_c(parse_machine(examples("machines/gantry3.json"), "g").value()));   // no C
+  // Whole turns toward 0 on a continuous C, with the coming sweep centred.
+  EXPECT_DOUBLE_EQ(unwound_c_deg(m.value(), 725.0, 0.0, 0.0), 5.0);
+  EXPECT_DOUBLE_EQ(unwound_c_deg(m.value(), -1075.0, 0.0, 0.0), 5.0);
+  EXPECT_DOUBLE_EQ(unwound_c_deg(m.value(), 10.0, -360.0, 0.0), 10.0);
+  EXPECT_DOUBLE_EQ(unwound_c_deg(m.value(), 10.0, -720.0, 0.0), 370.0);
+  // On C in [-360, 360] a sweep of -400..0 from the start fits only from [40, 360].
+  machine::MachineConfig lim = m.value();
+  lim.c_continuous = false;
+  lim.c_deg = {-360.0, 360.0};
+  EXPECT_DOUBLE_EQ(unwound_c_deg(lim, -310.0, -400.0, 0.0), 50.0);
+  EXPECT_DOUBLE_EQ(unwound_c_deg(lim, 770.0, 0.0, 300.0), -310.0);
 }
 
 TEST(MachineConfig, OverridesWithDottedKeys) {

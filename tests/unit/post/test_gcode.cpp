@@ -150,6 +150,83 @@ TEST(Gcode, SlowMachineGetsLowerFeedsNeverAboveItsLimits) {
   EXPECT_TRUE(any_rapid);
 }
 
+// A bead leaving the vertical whose tilt grows to 40° toward +X, on a B/C machine whose B stops at
+// -10°: point by point, the first points' least-motion branch (B = -2°...) runs into the stop
+// part-way and would have to jump half a turn of C mid-bead. The branch search leaves the vertical
+// on the other branch (B positive, C a half turn round) and the whole bead follows it.
+TEST(Gcode, SolutionBranchIsSearchedAlongThePathNotChosenPointByPoint) {
+  machine::MachineConfig m = example_machine("ded5_bc");
+  m.tilt_deg = {-10.0, 110.0};
+  std::vector<ProgramPoint> plan;
+  plan.push_back({{20.0, 0.0, 30.0}, {0.0, 0.0, 1.0}, 50.0, false, 0, 0, "approach"});
+  plan.push_back({{20.0, 0.0, 5.0}, {0.0, 0.0, 1.0}, 50.0, false, 0, 0, ""});
+  for (int k = 1; k <= 40; ++k) {
+    const double tilt = k * std::numbers::pi / 180.0;
+    plan.push_back({{20.0 + 0.5 * k, 0.0, 5.0}, {std::sin(tilt), 0.0, std::cos(tilt)}, 8.0, true, 0, 0, k == 1 ? "perimeter" : ""});
+  }
+  auto text = write_gcode(m, default_process(), plan);
+  ASSERT_TRUE(text.ok()) << text.error().message;
+  check_program(m, text.value(), plan, 0.01);
+  double lowest_b = 0.0;
+  for (const Block& b : motion_blocks(text.value())) lowest_b = std::min(lowest_b, b.axes[4]);
+  EXPECT_GE(lowest_b, -1e-4);
+}
+
+// Three loops with the torch tilted outward turn C three whole turns. At the unwind points between
+// them (the tool upright, process off) C is turned back: a C with end stops at ±360° builds it, a
+// continuous C asked to unwind stays within a turn and a half, and one not asked keeps winding.
+TEST(Gcode, CIsUnwoundAtUnwindPoints) {
+  std::vector<ProgramPoint> plan;
+  constexpr double kTilt = 25.0 * std::numbers::pi / 180.0;
+  for (int loop = 0; loop < 3; ++loop) {
+    const double z = 2.0 + loop;
+    plan.push_back({{40.0, 0.0, z + 5.0}, {0.0, 0.0, 1.0}, 50.0, false, static_cast<std::uint32_t>(loop), 0, "unwind C", true});
+    for (int k = 0; k <= 36; ++k) {
+      const double az = k * 10.0 * std::numbers::pi / 180.0;
+      plan.push_back({{40.0 * std::cos(az), 40.0 * std::sin(az), z},
+                      {std::sin(kTilt) * std::cos(az), std::sin(kTilt) * std::sin(az), std::cos(kTilt)},
+                      k == 0 ? 50.0 : 8.0, k > 0, static_cast<std::uint32_t>(loop), 0, k == 0 ? "perimeter" : ""});
+    }
+    plan.push_back({{40.0, 0.0, z + 5.0}, {std::sin(kTilt), 0.0, std::cos(kTilt)}, 50.0, false, static_cast<std::uint32_t>(loop), 0, "retract"});
+  }
+  auto c_range = [](const std::string& text) {
+    double lo = 0.0, hi = 0.0;
+    for (const Block& b : motion_blocks(text)) lo = std::min(lo, b.axes[5]), hi = std::max(hi, b.axes[5]);
+    return std::pair{lo, hi};
+  };
+  machine::MachineConfig limited = example_machine("ded5_ac");
+  limited.c_continuous = false;
+  limited.c_deg = {-360.0, 360.0};
+  auto text = write_gcode(limited, default_process(), plan);
+  ASSERT_TRUE(text.ok()) << text.error().message;
+  check_program(limited, text.value(), plan, 0.01);
+  EXPECT_NE(text.value().find("C unwound"), std::string::npos);
+  const auto [lo, hi] = c_range(text.value());
+  EXPECT_GE(lo, -360.0);
+  EXPECT_LE(hi, 360.0);
+
+  machine::MachineConfig unwinding = example_machine("ded5_ac");
+  unwinding.c_unwind = true;
+  auto unwound = write_gcode(unwinding, default_process(), plan);
+  ASSERT_TRUE(unwound.ok()) << unwound.error().message;
+  check_program(unwinding, unwound.value(), plan, 0.01);
+  const auto [ulo, uhi] = c_range(unwound.value());
+  EXPECT_LE(std::max(-ulo, uhi), 540.0);
+
+  auto wound = write_gcode(example_machine("ded5_ac"), default_process(), plan);
+  ASSERT_TRUE(wound.ok());
+  EXPECT_EQ(wound.value().find("C unwound"), std::string::npos);
+  const auto [wlo, whi] = c_range(wound.value());
+  EXPECT_GE(std::max(-wlo, whi), 1000.0);
+
+  // End stops too close for a whole loop from where it starts: refused, naming C's range.
+  limited.c_deg = {-200.0, 200.0};
+  auto refused = write_gcode(limited, default_process(), plan);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().code, ErrorCode::kMachineLimit);
+  EXPECT_NE(refused.error().message.find("C's range"), std::string::npos) << refused.error().message;
+}
+
 TEST(Gcode, NonFiniteInputIsAnInternalError) {
   auto plan = helix_and_tilt(10);
   plan[5].tip_part_mm.y = NAN;
