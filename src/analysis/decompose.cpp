@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <numbers>
 #include <cmath>
 #include <memory>
 #include <span>
@@ -202,6 +203,7 @@ struct ExactSplit {
 struct ExactRules {
   bool child_must_stand = false;  // a child left with overhang ends the split before the parent is built
   bool keep_base = false;         // a child with facets on the host's base is refused
+  detail::DirectionCone reach;    // the child's build direction stays inside it
 };
 
 // Cuts HOST by the plane (POINT, NORMAL towards the child; capped); the child is the piece on the
@@ -228,7 +230,7 @@ std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 norma
       }
     }
     const std::vector<detail::FacetSample> facets = detail::facet_samples(child, point, normal);
-    out.direction = detail::best_direction(facets, normal, starts, alpha_deg);
+    out.direction = detail::best_direction(facets, normal, starts, alpha_deg, 0.25, rules.reach);
     if (rules.child_must_stand && detail::unsupported(child, out.direction, alpha_deg, point, normal) > 0.0) return std::nullopt;
     return pick;
   });
@@ -326,6 +328,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   root.base_normal = root.build_direction;
   root.mesh = mesh;
   const Vec3 up = root.build_direction;
+  const detail::DirectionCone reach{up, std::cos(std::clamp(options.reach_deg, 0.0, 180.0) * std::numbers::pi / 180.0)};
   double lowest = INFINITY;
   for (const Vec3& v : mesh.vertices) lowest = std::min(lowest, core::dot(v, up));
   root.base_point = up * lowest;
@@ -434,7 +437,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       }
       if (overhang[host] <= 0.0) continue;  // nothing to gain in a support-free region
       const Region& h = tree.regions[host];
-      const detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal};
+      detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal, false, reach};
       std::vector<Candidate> cands = candidates_for(s, mesh, faces, axis.increment_mm, options.face_normal_tolerance_deg, alpha);
       if (!spend(static_cast<double>(cands.size() + s.targets.size()) * static_cast<double>(h.mesh.triangles.size()))) break;
       const std::vector<std::uint32_t> seeds = detail::nearest_facets(h.mesh, s.targets);
@@ -464,7 +467,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       const Candidate& c = best_candidates[k];
       if (!spend(kExactCutVisitsPerFacet * static_cast<double>(tree.regions[host].mesh.triangles.size()))) break;
       const Vec3 starts[] = {c.normal, s.dir, s.branch_dir, c.screened.child_direction};
-      auto e = exact_split(tree.regions[host], c.point, c.normal, s.targets, starts, alpha);
+      auto e = exact_split(tree.regions[host], c.point, c.normal, s.targets, starts, alpha, ExactRules{false, false, reach});
       if (e && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
         chosen = std::move(e), used = &best_candidates[k];
         // The cut confirms the estimate: the later candidates were estimated no better.
@@ -486,7 +489,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     for (std::size_t host = 0; host < tree.regions.size() && !split; ++host) {
       if (overhang[host] <= 0.0) continue;
       const Region& h = tree.regions[host];
-      detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal};
+      detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal, false, reach};
       // The plate stays under the regions that stand on it; a cut base may go with the child, whose
       // facets on it are then checked like any other.
       hr.keep_base = !h.parent || h.rule == "below the plate";
@@ -503,7 +506,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
           if (c.screened.total() >= overhang[host] - kMinGainMm2) break;
           if (!spend(kExactCutVisitsPerFacet * static_cast<double>(h.mesh.triangles.size()))) break;
           const Vec3 starts[] = {c.normal, c.screened.child_direction};
-          auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, ExactRules{true, hr.keep_base});
+          auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, ExactRules{true, hr.keep_base, reach});
           if (e && e->child_mm2 == 0.0 && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
             chosen = std::move(e), used = &c;
             if (chosen->unsupported_mm2 <= c.screened.total() + kUnsupportedNoiseMm2) break;

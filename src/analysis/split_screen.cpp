@@ -76,6 +76,15 @@ double positive_area(const Vec3 (&p)[3], const double (&s)[3], Vec3 unit_normal)
 
 }  // namespace
 
+Vec3 DirectionCone::nearest(Vec3 unit) const {
+  if (admits(unit)) return unit;
+  const Vec3 a = core::normalized(axis);
+  const Vec3 side = unit - a * core::dot(unit, a);
+  const Vec3 across = core::norm(side) > 1e-12 ? core::normalized(side) : any_perpendicular(a);
+  const double c = std::clamp(min_cos, -1.0, 1.0);
+  return core::normalized(a * c + across * std::sqrt(std::max(0.0, 1.0 - c * c)));
+}
+
 std::vector<FacetSample> facet_samples(const mesh::Mesh& m, Vec3 base_point, Vec3 base_normal) {
   std::vector<FacetSample> out;
   out.reserve(m.triangles.size());
@@ -99,15 +108,16 @@ double overhang_of(std::span<const FacetSample> facets, Vec3 d, double alpha_deg
 }
 
 Vec3 best_direction(std::span<const FacetSample> facets, Vec3 base_normal, std::span<const Vec3> starts, double alpha_deg,
-                    double finest_step_deg) {
+                    double finest_step_deg, const DirectionCone& reach) {
   const Vec3 bn = core::normalized(base_normal);
+  const Vec3 first = reach.nearest(bn);
   const double strict = alpha_deg - kDirectionMarginDeg;
   const double min_cos = std::cos(max_base_tilt_deg(alpha_deg) * kPi / 180.0);
-  Vec3 best = bn;
-  double best_depth = depth_of(facets, bn, strict);
+  Vec3 best = first;
+  double best_depth = depth_of(facets, first, strict);
   for (Vec3 s : starts) {
     s = core::normalized(s);
-    if (core::dot(s, bn) < min_cos - 1e-12) continue;
+    if (core::dot(s, bn) < min_cos - 1e-12 || !reach.admits(s)) continue;
     const double d = depth_of(facets, s, strict);
     if (d < best_depth) best = s, best_depth = d;
   }
@@ -122,7 +132,7 @@ Vec3 best_direction(std::span<const FacetSample> facets, Vec3 base_normal, std::
       for (int k = 0; k < 8; ++k) {
         const double phi = k * kPi / 4.0;
         const Vec3 probe = core::normalized(best * c + (u * std::cos(phi) + v * std::sin(phi)) * s);
-        if (core::dot(probe, bn) < min_cos) continue;
+        if (core::dot(probe, bn) < min_cos || !reach.admits(probe)) continue;
         const double d = depth_of(facets, probe, strict);
         if (d < best_depth) {
           best = probe, best_depth = d, moved = true;
@@ -212,7 +222,7 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
   const bool cap_on_base = std::fabs(core::dot(normal, hb)) > 1.0 - 1e-9 && std::fabs(core::dot(point - host.base_point, hb)) <= kOnBaseMm;
   if (!cap_on_base && core::dot(normal, hd) < limit) out.parent_mm2 += std::max(0.0, child_cap_mm2);
   const std::vector<FacetSample> bins = binned(child);
-  out.child_direction = best_direction(bins, normal, direction_starts, alpha_deg, kScreenSearchEndDeg);
+  out.child_direction = best_direction(bins, normal, direction_starts, alpha_deg, kScreenSearchEndDeg, host.reach);
   out.child_mm2 = overhang_of(child, out.child_direction, alpha_deg);
   out.valid = true;
   return out;

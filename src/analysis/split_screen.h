@@ -19,6 +19,16 @@ using core::Vec3;
 // along its own axis from the flat face it stands on.
 inline double max_base_tilt_deg(double alpha_deg) { return 90.0 - alpha_deg; }
 
+// The build directions a machine can reach: within the angle whose cosine is MIN_COS of AXIS (the
+// root's direction, which stands upright on the table). The default admits every direction.
+struct DirectionCone {
+  Vec3 axis{0, 0, 1};
+  double min_cos = -2.0;
+  bool admits(Vec3 unit) const { return core::dot(unit, axis) >= min_cos - 1e-12; }
+  // UNIT itself when admitted, else the admitted direction nearest to it (on the cone's rim).
+  Vec3 nearest(Vec3 unit) const;
+};
+
 struct FacetSample {
   Vec3 normal;      // unit, outward
   double area_mm2;
@@ -35,9 +45,10 @@ double overhang_of(std::span<const FacetSample> facets, Vec3 d, double alpha_deg
 // overhang; while some overhang remains, a pattern search over directions within max_base_tilt_deg of
 // BASE_NORMAL minimising the overhang depth Σ area·max(0, −sin α' − n·d), α' = α − a small margin
 // (so a direction that clears the limit does so with some room). Cost O(F) per probe, ~100 probes.
-// FINEST_STEP_DEG ends the search (a coarser end is for screening).
+// FINEST_STEP_DEG ends the search (a coarser end is for screening). Only directions REACH admits
+// are taken (the base normal itself is moved onto the cone when outside it).
 Vec3 best_direction(std::span<const FacetSample> facets, Vec3 base_normal, std::span<const Vec3> starts, double alpha_deg,
-                    double finest_step_deg = 0.25);
+                    double finest_step_deg = 0.25, const DirectionCone& reach = {});
 
 // For each of TARGETS, the facet of M nearest to it. O(F) per target.
 std::vector<std::uint32_t> nearest_facets(const mesh::Mesh& m, std::span<const Vec3> targets);
@@ -56,6 +67,7 @@ struct HostRegion {
   const mesh::EdgeTopology* topology;
   Vec3 direction, base_point, base_normal;
   bool keep_base = false;  // a child that would take facets of the host's base is not valid
+  DirectionCone reach;     // the child's build direction stays inside it
 };
 
 // Estimates the split of HOST by the plane (POINT, unit NORMAL pointing to the child side): the

@@ -2,12 +2,15 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <tbb/parallel_invoke.h>
 
 #include <chrono>
+#include <cmath>
+#include <numbers>
 
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/self_intersections.h"
-#include <cmath>
+#include "reach.h"
 
 namespace polyaxis::planner {
 namespace {
@@ -33,12 +36,17 @@ bool supplied_by_plate(const analysis::Region& r, const analysis::Region& root, 
 
 // Share of a part's faces that may cross another face for it to be decomposed.
 constexpr double kMaxCrossingShare = 0.01;
+// A root base within this of the part's lowest point (along the root's direction) is that point.
+constexpr double kSameBaseMm = 1e-6;
 
 struct Candidate {
   Plan plan;
   std::optional<analysis::CentroidalAxis> axis;
   Strategy strategy = Strategy::kSingle;
   std::vector<std::string> warnings;
+  // A decomposition whose root stands on the part's lowest point along its direction: rooting it
+  // there explicitly (RootBase::kLowest) would give the same tree.
+  bool root_at_lowest = false;
 };
 
 core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
@@ -73,6 +81,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   dopt.root_base = root_base;
   dopt.self_supporting_deg = process.self_supporting_deg;
   dopt.work_budget_facet_visits = o.decompose_budget_facet_visits;
+  dopt.reach_deg = detail::reach_rad(machine) * 180.0 / std::numbers::pi;
   auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
   if (!tree) return tree.error();
   if (o.strategy == Strategy::kAuto && tree.value().regions.size() < 2) {
@@ -80,6 +89,23 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   }
   Candidate c;
   c.strategy = Strategy::kDecompose;
+  {
+    const analysis::Region& root = tree.value().regions.front();
+    const Vec3 up = core::normalized(root.build_direction);
+    double lowest = INFINITY;
+    for (const Vec3& v : part.mesh.vertices) lowest = std::min(lowest, core::dot(v, up));
+    c.root_at_lowest = core::dot(root.base_point, up) - lowest <= kSameBaseMm;
+  }
+  if (dopt.reach_deg < 180.0) {
+    double left = 0.0;
+    for (const analysis::Region& r : tree.value().regions) left += r.support_free ? 0.0 : r.unsupported_area_mm2;
+    if (left > 0.0) {
+      const char tilt = machine::tilt_axis_letter(machine.kind);
+      c.warnings.push_back(fmt::format("the decomposition kept every build direction within the tilt reach of {:.0f} deg "
+                                       "(machine '{}', limits.{}) and leaves {:.1f} mm2 of overhang: a wider tilt range may remove it",
+                                       dopt.reach_deg, machine.name, tilt == '\0' ? 'z' : static_cast<char>(tilt - 'A' + 'a'), left));
+    }
+  }
   if (tree.value().budget_exhausted) {
     c.warnings.push_back(fmt::format("the decomposition stopped at its work budget ({:.0e} facet visits) with {} regions; "
                                      "--decompose-budget 0 lets it run to the end",
@@ -139,20 +165,24 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
   std::optional<Candidate> best;
   std::string best_label;
   std::optional<core::ErrorCode> first_code;
+  bool root_at_lowest = false;  // a decomposition so far was rooted at the lowest point
   auto consider = [&](core::Result<Candidate> c, const std::string& label) {
     if (!c) {
       if (!first_code) first_code = c.error().code;
       return refused.push_back(fmt::format("{}: {}", label, c.error().message));
     }
+    root_at_lowest = root_at_lowest || c.value().root_at_lowest;
     if (!best || better(c.value().plan, best->plan)) best = std::move(c.value()), best_label = label;
   };
   auto done = [&] { return best && best->plan.unsupported_area_mm2 == 0.0; };
   consider(plan_single(part, machine, process, o), "one build direction");
   if (!done()) consider(plan_decomposed(part, machine, process, o, o.root_base), "the decomposition");
   if (!done() && o.root_base.kind == analysis::RootBase::Kind::kAuto) {
-    analysis::RootBase lowest;
-    lowest.kind = analysis::RootBase::Kind::kLowest;
-    consider(plan_decomposed(part, machine, process, o, lowest), "the decomposition from the lowest point");
+    if (!root_at_lowest) {
+      analysis::RootBase lowest;
+      lowest.kind = analysis::RootBase::Kind::kLowest;
+      consider(plan_decomposed(part, machine, process, o, lowest), "the decomposition from the lowest point");
+    }
     if (!done()) {
       PlanPartOptions over = o;
       over.direction = o.direction * -1.0;
@@ -180,21 +210,30 @@ core::Status program_of(const machine::MachineConfig& machine, const process::Pr
   if (!gcode) return gcode.error();
   out.gcode = std::move(gcode.value());
   out.gcode_s = since(t0);
-  t0 = Clock::now();
-  auto sim = verify::simulate(machine, out.gcode, plan.program, &process, options.gcode.chordal_mm);
-  if (!sim) return sim.error();
-  out.simulation = std::move(sim.value());
-  out.simulate_s = since(t0);
+  // The simulation against the plan and the verification against the build model read the same
+  // text independently: side by side.
+  std::optional<core::Result<verify::SimulationReport>> sim;
+  std::optional<core::Result<verify::BuildCheck>> check;
+  tbb::parallel_invoke(
+      [&] {
+        const auto t = Clock::now();
+        sim.emplace(verify::simulate(machine, out.gcode, plan.program, &process, options.gcode.chordal_mm));
+        out.simulate_s = since(t);
+      },
+      [&] {
+        const auto t = Clock::now();
+        check.emplace(verify::verify_build(machine, process, plan.build_model, out.gcode));
+        out.verify_s = since(t);
+      });
+  if (!*sim) return sim->error();
+  out.simulation = std::move(sim->value());
   if (out.simulation.limit_violations > 0) {
     return core::make_error(core::ErrorCode::kMachineLimit,
                             fmt::format("the program breaks a machine limit: {}",
                                         out.simulation.violations.empty() ? "" : out.simulation.violations.front()));
   }
-  t0 = Clock::now();
-  auto check = verify::verify_build(machine, process, plan.build_model, out.gcode);
-  if (!check) return check.error();
-  out.check = std::move(check.value());
-  out.verify_s = since(t0);
+  if (!*check) return check->error();
+  out.check = std::move(check->value());
   return {};
 }
 

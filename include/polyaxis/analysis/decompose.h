@@ -79,6 +79,11 @@ struct DecomposeOptions {
   // regions found so far and RegionTree::budget_exhausted is set. A count, not a time: the result
   // is the same on any machine and at any thread count.
   double work_budget_facet_visits = 0.0;
+  // Every split region's build direction stays within this angle (degrees) of the root's: once the
+  // root stands on the table, the machine's tilt reach (planner::plan_part sets it from the machine
+  // file). A region that no reachable direction holds keeps its overhang rather than a direction
+  // the machine cannot take. 180: any direction.
+  double reach_deg = 180.0;
 };
 
 // What one exact cut (CGAL, exact kernel) costs against the work budget, per facet of the region cut.

@@ -66,6 +66,33 @@ TEST(DecomposeGenerated, LBlockWithAnotherArm) {
   expect_support_free(tree);
 }
 
+// With the machine's tilt reach given, every region's direction stays within it of the root's: the
+// arm (90° wanted) goes to the rim of a 75° reach and is still support-free; within 60° nothing
+// holds it and the part is left unsplit rather than given a direction out of reach.
+TEST(DecomposeGenerated, DirectionsStayWithinTheReach) {
+  const auto part = repaired(polyaxis::test::mesh_union(polyaxis::test::box({0, 0, 0}, {16, 16, 50}),
+                                                        polyaxis::test::box({0, 0, 34}, {56, 16, 50})));
+  CentroidalAxisOptions ao;
+  ao.start_direction = {0, 0, 1};
+  auto axis = centroidal_axis(part.mesh, part.topology, ao);
+  ASSERT_TRUE(axis.ok());
+  for (const double reach : {80.0, 75.0, 60.0}) {
+    SCOPED_TRACE(reach);
+    DecomposeOptions dopt;
+    dopt.reach_deg = reach;
+    auto tree = decompose(part.mesh, axis.value(), dopt);
+    ASSERT_TRUE(tree.ok());
+    expect_partition(tree.value(), part.mesh);
+    for (const Region& r : tree.value().regions) EXPECT_LE(angle_between_deg(r.build_direction, {0, 0, 1}), reach + 1e-6) << r.id;
+    if (reach > 60.0) {
+      ASSERT_EQ(tree.value().regions.size(), 2u);
+      expect_support_free(tree.value());
+    } else {
+      EXPECT_EQ(tree.value().regions.size(), 1u);
+    }
+  }
+}
+
 class LeaningBar : public ::testing::TestWithParam<double> {};
 
 TEST_P(LeaningBar, BuildsAlongItsIncline) {
