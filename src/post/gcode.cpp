@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
@@ -42,9 +43,18 @@ constexpr double kMaxWordMagnitude = 1e9;
 // A pose as the integers of its words (value · 1e4), which is what the controller reads.
 using Words = std::array<std::int64_t, 5>;
 
-std::string fixed4(std::int64_t n) {
+
+// fixed4(N) appended to OUT without a format string (the writer's inner loop).
+void append_fixed4(std::string& out, std::int64_t n) {
   const std::uint64_t a = n < 0 ? static_cast<std::uint64_t>(-(n + 1)) + 1 : static_cast<std::uint64_t>(n);
-  return fmt::format("{}{}.{:04d}", n < 0 ? "-" : "", a / 10000, a % 10000);
+  if (n < 0) out += '-';
+  char digits[24];
+  auto [end, ec] = std::to_chars(digits, digits + sizeof digits, a / 10000);
+  out.append(digits, end);
+  const auto frac = static_cast<unsigned>(a % 10000);
+  const char f[5] = {'.', static_cast<char>('0' + frac / 1000), static_cast<char>('0' + frac / 100 % 10),
+                     static_cast<char>('0' + frac / 10 % 10), static_cast<char>('0' + frac % 10)};
+  out.append(f, 5);
 }
 
 double value_of(std::int64_t n) { return static_cast<double>(n) / kWordScale; }
@@ -95,6 +105,17 @@ std::string sanitize_comment(std::string_view s) {
   return out;
 }
 
+// Which move a message is about; rendered only when there is a message.
+struct Where {
+  std::size_t i;
+  const ProgramPoint* pt;
+  std::string str() const {
+    return fmt::format("move to point {} (layer {} region {}, tip ({:.4f}, {:.4f}, {:.4f}), axis ({:.4f}, {:.4f}, {:.4f}))", i,
+                       pt->layer, pt->region, pt->tip_part_mm.x, pt->tip_part_mm.y, pt->tip_part_mm.z, pt->tool_axis_part.x,
+                       pt->tool_axis_part.y, pt->tool_axis_part.z);
+  }
+};
+
 class Writer {
  public:
   Writer(const machine::MachineConfig& m, const GcodeOptions& o) : m_(m), o_(o), five_(machine::has_rotary_axes(m.kind)) {}
@@ -105,7 +126,7 @@ class Writer {
   }
 
   // One block to POSE; MOTION is "G0" or "G1"; FEED_MM_S is the planned tip speed (G1 only).
-  core::Status move(const MachinePose& pose, bool rapid, double feed_mm_s, std::string_view where) {
+  core::Status move(const MachinePose& pose, bool rapid, double feed_mm_s, const Where& where) {
     Words w{};
     const std::array<double, 5> v{pose.x_mm, pose.y_mm, pose.z_mm, pose.a_or_b_deg, pose.c_deg};
     const std::array<machine::AxisRange, 5> r{m_.x_mm, m_.y_mm, m_.z_mm, m_.tilt_deg, m_.c_deg};
@@ -114,24 +135,28 @@ class Writer {
     for (int k = 0; k < n_axes; ++k) {
       const bool clamp = !(k == 4 && m_.c_continuous);
       if (!to_word(v[k], r[k].min, r[k].max, clamp, w[k])) {
-        return make_error(ErrorCode::kInternal, fmt::format("{}: {} would be {} (not a finite number)", where, letter[k], v[k]));
+        return make_error(ErrorCode::kInternal, fmt::format("{}: {} would be {} (not a finite number)", where.str(), letter[k], v[k]));
       }
     }
     if (have_last_ && w == last_) return {};  // nothing moves at the words' resolution
     const MachinePose target = pose_of(w);
     // Soft limits once more on the words themselves (the IK checked the exact values).
     if (std::string bad = machine::limit_violation(m_, target); !bad.empty()) {
-      return make_error(ErrorCode::kMachineLimit, fmt::format("{}: {} in {}", where, bad, machine::format_pose(m_, target)));
+      return make_error(ErrorCode::kMachineLimit, fmt::format("{}: {} in {}", where.str(), bad, machine::format_pose(m_, target)));
     }
     std::string block = rapid ? "G0" : "G1";
-    for (int k = 0; k < n_axes; ++k) block += fmt::format(" {}{}", letter[k], fixed4(w[k]));
+    for (int k = 0; k < n_axes; ++k) {
+      block += ' ';
+      block += letter[k];
+      append_fixed4(block, w[k]);
+    }
     if (!rapid) {
       if (!have_last_) {
-        return make_error(ErrorCode::kInternal, fmt::format("{}: a feed move without a known start", where));
+        return make_error(ErrorCode::kInternal, fmt::format("{}: a feed move without a known start", where.str()));
       }
       std::string f = feed(last_, w, feed_mm_s);
       if (f.empty()) {
-        return make_error(ErrorCode::kInternal, fmt::format("{}: the feed rounds to zero in {}", where, block));
+        return make_error(ErrorCode::kInternal, fmt::format("{}: the feed rounds to zero in {}", where.str(), block));
       }
       if (f != last_feed_) {
         block += " F" + f;
@@ -312,11 +337,6 @@ std::optional<MachinePose> other_branch_at_pole(const machine::MachineConfig& m,
   return std::nullopt;
 }
 
-std::string where_of(std::size_t i, const ProgramPoint& pt) {
-  return fmt::format("move to point {} (layer {} region {}, tip ({:.4f}, {:.4f}, {:.4f}), axis ({:.4f}, {:.4f}, {:.4f}))", i,
-                     pt.layer, pt.region, pt.tip_part_mm.x, pt.tip_part_mm.y, pt.tip_part_mm.z, pt.tool_axis_part.x,
-                     pt.tool_axis_part.y, pt.tool_axis_part.z);
-}
 
 }  // namespace
 
@@ -339,9 +359,9 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
     if (!core::is_finite(pt.tip_part_mm) || !core::is_finite(pt.tool_axis_part) || !std::isfinite(pt.feed_mm_s) ||
         !(norm(pt.tool_axis_part) > 0.0) || !(pt.feed_mm_s > 0.0)) {
       return make_error(ErrorCode::kInternal,
-                        fmt::format("{}: a non-finite or zero value (feed {} mm/s)", where_of(i, pt), pt.feed_mm_s));
+                        fmt::format("{}: a non-finite or zero value (feed {} mm/s)", Where{i, &pt}.str(), pt.feed_mm_s));
     }
-    const std::string where = where_of(i, pt);
+    const Where where{i, &pt};
     if (!pt.comment_if_new_block.empty()) {
       w.line(fmt::format("(layer {} region {} {})", pt.layer, pt.region, sanitize_comment(pt.comment_if_new_block)));
     }
@@ -350,7 +370,7 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
     const double tol = options.chordal_mm * kSubdivisionShare;
     if (i == 0) {
       auto pose = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, nullptr);
-      if (!pose) return make_error(pose.error().code, fmt::format("{}: {}", where, pose.error().message));
+      if (!pose) return make_error(pose.error().code, fmt::format("{}: {}", where.str(), pose.error().message));
       std::vector<MachinePose> candidates{pose.value()};
       MachinePose hint = pose.value();
       hint.a_or_b_deg = -hint.a_or_b_deg;
@@ -359,11 +379,11 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
       prev = pick_branch(machine, points, 1, candidates);
       if (pt.c_unwind && machine::unwinds_c(machine) && singular(prev)) {
         auto target = unwind_target_deg(machine, points, 1, prev);
-        if (!target) return make_error(target.error().code, fmt::format("{}: {}", where, target.error().message));
+        if (!target) return make_error(target.error().code, fmt::format("{}: {}", where.str(), target.error().message));
         MachinePose at_target = prev;
         at_target.c_deg = target.value();
         auto turned = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, &at_target);
-        if (!turned) return make_error(turned.error().code, fmt::format("{}: {}", where, turned.error().message));
+        if (!turned) return make_error(turned.error().code, fmt::format("{}: {}", where.str(), turned.error().message));
         prev = turned.value();
       }
       if (auto st = w.move(prev, /*rapid=*/true, 0.0, where); !st) return st.error();
@@ -376,7 +396,7 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
         const MachinePose chosen = pick_branch(machine, points, i, {prev, *other});
         if (chosen.c_deg != prev.c_deg) {
           auto turn = machine::turn_c_in_place(machine, prev, chosen.c_deg, tol);
-          if (!turn) return make_error(turn.error().code, fmt::format("{}: {}", where, turn.error().message));
+          if (!turn) return make_error(turn.error().code, fmt::format("{}: {}", where.str(), turn.error().message));
           for (const MachinePose& pose : turn.value()) {
             if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
           }
@@ -385,20 +405,20 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
       }
     }
     auto poses = machine::subdivide(machine, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev, tol);
-    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, end_stop_or(machine, prev, pt, poses.error().message)));
+    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where.str(), end_stop_or(machine, prev, pt, poses.error().message)));
     if (pt.process_on && stalls(machine, prev, poses.value(), pt.feed_mm_s)) {
       // The rotary axes cannot keep up with the tip here: turn the tool in place with the process
       // off, then lay the bead with the new axis (verify/verify.h, stall).
       ++stall_splits;
       auto turn = machine::subdivide(machine, from.tip_part_mm, from.tool_axis_part, from.tip_part_mm, pt.tool_axis_part, prev, tol);
-      if (!turn) return make_error(turn.error().code, fmt::format("{}: {}", where, turn.error().message));
+      if (!turn) return make_error(turn.error().code, fmt::format("{}: {}", where.str(), turn.error().message));
       if (process_on) w.line(process.process_off), process_on = false;
       for (const MachinePose& pose : turn.value()) {
         if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
       }
       prev = turn.value().back();
       poses = machine::subdivide(machine, from.tip_part_mm, pt.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev, tol);
-      if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where, poses.error().message));
+      if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where.str(), poses.error().message));
     }
     if (pt.process_on && !process_on) {
       w.line(process.process_on);
@@ -415,9 +435,9 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
     prev = poses.value().back();
     if (pt.c_unwind && !pt.process_on && machine::unwinds_c(machine)) {
       auto target = unwind_target_deg(machine, points, i + 1, prev);
-      if (!target) return make_error(target.error().code, fmt::format("{}: {}", where, target.error().message));
+      if (!target) return make_error(target.error().code, fmt::format("{}: {}", where.str(), target.error().message));
       auto turn = machine::turn_c_in_place(machine, prev, target.value(), tol);
-      if (!turn) return make_error(turn.error().code, fmt::format("{}: unwinding C: {}", where, turn.error().message));
+      if (!turn) return make_error(turn.error().code, fmt::format("{}: unwinding C: {}", where.str(), turn.error().message));
       if (!turn.value().empty()) ++unwinds;
       for (const MachinePose& pose : turn.value()) {
         if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
