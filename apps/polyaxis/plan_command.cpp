@@ -109,7 +109,7 @@ int run_plan(PlanCommandOptions& o) {
   core::Progress progress("writing", files);
   std::size_t written = 0;
   const report::PlanView view =
-      report::make_plan_view(plan, machine, process, axis_shown ? &*axis_shown : nullptr, o.part.path, report_text);
+      report::make_plan_view(plan, machine, process, axis_shown ? &*axis_shown : nullptr, o.part.path, report_text, &job.check);
   if (auto s = io::write_file_atomic(o.out_dir + "/plan.json", report::plan_view_json(view), io::Durability::kAtomic); !s) {
     return report_error(s.error());
   }

@@ -282,6 +282,13 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
     out.warnings.push_back(fmt::format("the plan is not support-free: {:.1f} mm2 unsupported (report.html shows the pieces in red)",
                                        plan.unsupported_area_mm2));
   }
+  if (out.check.collisions > 0 && !out.check.collision_list.empty()) {
+    const verify::Collision& c = out.check.collision_list.front();
+    out.warnings.push_back(fmt::format("read back, the head strikes something at {} samples (the plate or table at {}, earlier deposit at "
+                                       "{}); the first: line {} (layer {} region {}), the {} ({:.2f} mm); report.html shows them in red",
+                                       out.check.collisions, out.check.head_collisions, out.check.material_collisions, c.line, c.layer,
+                                       c.region, c.body, c.depth_mm));
+  }
   if (!out.check.mid_air_regions.empty()) {
     out.warnings.push_back(fmt::format("read back, region {} starts in mid-air: its first bead rests on nothing", out.check.mid_air_regions.front()));
   }

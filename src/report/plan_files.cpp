@@ -59,7 +59,17 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
                         {"process_on_s", check->process_on_s},
                         {"stalled_s", check->stalled_s},
                         {"process_on_dwell_s", check->process_on_dwell_s},
+                        {"material_checks", check->material_checks},
+                        {"material_collisions", check->material_collisions},
+                        {"worst_material_depth_mm", check->worst_material_depth_mm},
                         {"problems", check->first_problems}};
+    j["collisions"] = check->collisions;
+    nlohmann::json list = nlohmann::json::array();
+    for (const verify::Collision& c : check->collision_list) {
+      list.push_back({{"line", c.line}, {"layer", c.layer}, {"region", c.region}, {"point", {c.tip.x, c.tip.y, c.tip.z}},
+                      {"body", c.body}, {"depth_mm", c.depth_mm}});
+    }
+    j["collision_list"] = std::move(list);
   }
   j["substrate"] = {{"x_mm", {plan.build_model.substrate.x_min_mm, plan.build_model.substrate.x_max_mm}},
                     {"y_mm", {plan.build_model.substrate.y_min_mm, plan.build_model.substrate.y_max_mm}},

@@ -85,8 +85,15 @@ std::string metrics_object(std::string_view metrics_json) {
 }
 
 PlanView make_plan_view(const planner::Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process,
-                        const analysis::CentroidalAxis* axis, std::string part, std::string metrics_json) {
+                        const analysis::CentroidalAxis* axis, std::string part, std::string metrics_json,
+                        const verify::BuildCheck* check) {
   PlanView view;
+  if (check != nullptr) {
+    for (const verify::Collision& c : check->collision_list) {
+      view.collisions.push_back({c.tip, fmt::format("layer {} region {}, line {}: the head strikes the {} ({:.2f} mm)", c.layer, c.region,
+                                                    c.line, c.body, c.depth_mm)});
+    }
+  }
   view.part = std::move(part);
   view.machine = machine.name;
   view.kinematics = std::string(machine::kinematics_name(machine.kind));
@@ -198,7 +205,13 @@ std::string plan_view_json(const PlanView& view) {
                    p.tip_part_mm.x, p.tip_part_mm.y, p.tip_part_mm.z, p.tool_axis_part.x, p.tool_axis_part.y, p.tool_axis_part.z,
                    p.feed_mm_s, p.process_on ? 1 : 0, p.layer, p.region);
   }
-  out += "\n]}\n";
+  out += "\n],\n\"collisions\":[";
+  for (std::size_t i = 0; i < view.collisions.size(); ++i) {
+    out += i ? ",\n{\"position\":" : "\n{\"position\":";
+    put_vec(out, view.collisions[i].position);
+    out += ",\"what\":" + nlohmann::json(view.collisions[i].what).dump() + "}";
+  }
+  out += "]}\n";
   return out;
 }
 

@@ -159,6 +159,9 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
     for (const post::ProgramPoint& p : view.program) {
       if (p.layer >= view.layers.size()) throw std::runtime_error("a program row's layer is out of range");
     }
+    if (doc.contains("collisions")) {  // plans written before collisions were checked have none
+      for (const Json& c : doc.at("collisions")) view.collisions.push_back({get_vec(c.at("position")), c.at("what").get<std::string>()});
+    }
   } catch (const std::exception& e) {
     return core::make_error(core::ErrorCode::kInvalidInput, fmt::format("{}: not a polyaxis plan: {}", source, e.what()));
   }

@@ -144,8 +144,14 @@ std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
   }
   fmt::format_to(std::back_inserter(out),
                  "],\n\"toolpath\":{{\"points\":\"{}\",\"axes\":\"{}\",\"flags\":\"{}\",\"region\":\"{}\",\"total_points\":{},"
-                 "\"shown_points\":{}}},\"collisions\":[]}}",
+                 "\"shown_points\":{}}},\"collisions\":[",
                  base64(points), base64(axes), base64(flags), base64(regions), view.program.size(), kept.size());
+  for (std::size_t i = 0; i < view.collisions.size(); ++i) {
+    const Vec3& p = view.collisions[i].position;
+    fmt::format_to(std::back_inserter(out), "{}{{\"position\":[{:.4f},{:.4f},{:.4f}],\"what\":{}}}", i ? "," : "", p.x, p.y, p.z,
+                   nlohmann::json(view.collisions[i].what).dump());
+  }
+  out += "]}";
   return out;
 }
 

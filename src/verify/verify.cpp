@@ -6,11 +6,13 @@
 #include <cmath>
 #include <numbers>
 #include <array>
+#include <optional>
 #include <unordered_map>
 
 #include <tbb/parallel_for.h>
 
 #include "gcode_walk.h"
+#include "head_material.h"
 #include "polyaxis/machine/kinematics.h"
 
 namespace polyaxis::verify {
@@ -23,6 +25,10 @@ constexpr std::size_t kMaxProblems = 10;
 // Samples along a move: at most this far apart (share of the bead) and this much rotation apart.
 constexpr double kSampleBeadShare = 0.25;
 constexpr double kSampleDeg = 1.0;
+// The head is checked against the material at most this far apart (share of the bead, and degrees
+// of axis turn); between checks the margin grows by half the gap.
+constexpr double kQueryBeads = 1.5;
+constexpr double kQueryDeg = 1.5;
 
 MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
   return {a.x_mm + (b.x_mm - a.x_mm) * u, a.y_mm + (b.y_mm - a.y_mm) * u, a.z_mm + (b.z_mm - a.z_mm) * u,
@@ -142,6 +148,66 @@ Vec3 layer_normal(const std::vector<Pending>& samples, double spread_mm) {
   return core::dot(n, axis) < 0.0 ? n * -1.0 : n;
 }
 
+// A sampled pose of the head, to be checked against the material laid before it.
+struct HeadQuery {
+  std::array<float, 3> tip, axis;
+  std::uint32_t before = 0;  // material samples laid before it
+  float gap_mm = 0.0f, gap_rad = 0.0f;  // the tip's travel and the axis's turn since the previous sample
+  std::uint32_t line = 0;
+  std::int32_t layer = 0, region = 0;
+};
+
+Vec3 vec(const std::array<float, 3>& a) { return {a[0], a[1], a[2]}; }
+
+// Checks the samples against the material (in parallel) in two passes: every COARSE sample (at
+// most kQueryBeads / kQueryDeg apart) with the margin of the gaps to its coarse neighbours, then,
+// around those that come within it, every sample with the margin of its own gaps. Adds the
+// collisions to OUT in program order.
+void check_material(const std::vector<HeadQuery>& samples, const std::vector<std::uint32_t>& coarse,
+                    std::vector<detail::MaterialSample> material, const machine::BuildModel& model, double bead_mm, BuildCheck& out) {
+  const detail::HeadProfile head(model);
+  const detail::MaterialIndex index(std::move(material));
+  const double radius = 0.5 * bead_mm, ignore = kIgnoreBeads * bead_mm;
+  // The travel and turn from sample A to sample B (A < B), summed over the samples between.
+  std::vector<double> run_mm(samples.size() + 1, 0.0), run_rad(samples.size() + 1, 0.0);
+  for (std::size_t i = 0; i < samples.size(); ++i) run_mm[i + 1] = run_mm[i] + samples[i].gap_mm, run_rad[i + 1] = run_rad[i] + samples[i].gap_rad;
+  auto check = [&](std::size_t i, std::size_t prev, std::size_t next) {
+    // Gaps to the neighbours: the sums over (prev, i] and (i, next].
+    const double gap = std::max(run_mm[i + 1] - run_mm[prev + 1], run_mm[next + 1] - run_mm[i + 1]);
+    const double turn = std::max(run_rad[i + 1] - run_rad[prev + 1], run_rad[next + 1] - run_rad[i + 1]);
+    const HeadQuery& q = samples[i];
+    return index.deepest(head, vec(q.tip), vec(q.axis), q.before, radius, ignore, 0.5 * gap, 0.5 * turn);
+  };
+  std::vector<char> near(coarse.size(), 0);
+  tbb::parallel_for(std::size_t{0}, coarse.size(), [&](std::size_t k) {
+    const std::size_t prev = k > 0 ? coarse[k - 1] : coarse[k], next = k + 1 < coarse.size() ? coarse[k + 1] : coarse[k];
+    near[k] = check(coarse[k], prev, next) ? 1 : 0;
+  });
+  out.material_checks = coarse.size();
+  std::vector<std::uint32_t> dense;  // the samples around the coarse ones that came near, in order
+  for (std::size_t k = 0; k < coarse.size(); ++k) {
+    if (!near[k]) continue;
+    const std::size_t from = k > 0 ? coarse[k - 1] + 1 : 0, to = k + 1 < coarse.size() ? coarse[k + 1] : samples.size() - 1;
+    for (std::size_t i = std::max<std::size_t>(from, dense.empty() ? 0 : dense.back() + 1); i <= to; ++i) dense.push_back(static_cast<std::uint32_t>(i));
+  }
+  std::vector<std::optional<detail::MaterialHit>> hits(dense.size());
+  tbb::parallel_for(std::size_t{0}, dense.size(), [&](std::size_t k) {
+    const std::size_t i = dense[k];
+    hits[k] = check(i, i > 0 ? i - 1 : i, i + 1 < samples.size() ? i + 1 : i);
+  });
+  out.material_checks += dense.size();
+  for (std::size_t k = 0; k < dense.size(); ++k) {
+    if (!hits[k]) continue;
+    ++out.material_collisions;
+    out.worst_material_depth_mm = std::max(out.worst_material_depth_mm, hits[k]->depth_mm);
+    if (out.collision_list.size() >= kMaxListedCollisions) continue;
+    const detail::MaterialSample& s = index.sample(hits[k]->sample);
+    const HeadQuery& q = samples[dense[k]];
+    out.collision_list.push_back({q.line, q.layer, q.region, vec(q.tip), fmt::format("deposit of layer {} region {}", s.layer, s.region),
+                                  hits[k]->depth_mm});
+  }
+}
+
 }  // namespace
 
 core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const process::ProcessConfig& process,
@@ -198,7 +264,12 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
     for (const Pending& p : this_layer) grid.add(p.tip);
     this_layer.clear();
   };
-  auto check_sample = [&](const detail::WalkMove& mv, const machine::MachineToolPose& tp) {
+  std::vector<detail::MaterialSample> material;
+  std::vector<HeadQuery> head_samples;
+  std::vector<std::uint32_t> coarse;
+  double since_coarse_mm = 0.0, since_coarse_rad = 0.0;
+  std::vector<Collision> fixture_collisions;  // the plate or the table
+  auto check_sample = [&](const detail::WalkMove& mv, const machine::MachineToolPose& tp, bool last_of_move) {
     ++out.samples;
     const double c = std::min(machine::head_clearance_mm(model, tp.tip_part_mm, tp.tool_axis_part),
                               machine::tip_clearance_mm(model, tp.tip_part_mm));
@@ -207,8 +278,30 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
       if (mv.process_on) ++out.head_collisions_depositing;
       if (-c > out.worst_head_depth_mm) out.worst_head_depth_mm = -c, out.worst_head_line = mv.line;
       if (out.head_collisions == 1) problem(mv.line, mv.layer, mv.region, fmt::format("the head is {:.3f} mm into the plate or the table", -c));
+      if (fixture_collisions.size() < kMaxListedCollisions) {
+        fixture_collisions.push_back({mv.line, mv.layer, mv.region, tp.tip_part_mm, "plate or table", -c});
+      }
     }
+    HeadQuery q;
+    q.tip = {static_cast<float>(tp.tip_part_mm.x), static_cast<float>(tp.tip_part_mm.y), static_cast<float>(tp.tip_part_mm.z)};
+    q.axis = {static_cast<float>(tp.tool_axis_part.x), static_cast<float>(tp.tool_axis_part.y), static_cast<float>(tp.tool_axis_part.z)};
+    q.before = static_cast<std::uint32_t>(material.size());
+    q.line = static_cast<std::uint32_t>(mv.line), q.layer = static_cast<std::int32_t>(mv.layer), q.region = static_cast<std::int32_t>(mv.region);
+    if (!head_samples.empty() && mv.from_known) {
+      const HeadQuery& p = head_samples.back();
+      q.gap_mm = static_cast<float>(core::norm(tp.tip_part_mm - vec(p.tip)));
+      q.gap_rad = static_cast<float>(std::acos(std::clamp(core::dot(tp.tool_axis_part, vec(p.axis)), -1.0, 1.0)));
+    }
+    since_coarse_mm += q.gap_mm, since_coarse_rad += q.gap_rad;
+    // Coarse samples: every kQueryBeads of travel or kQueryDeg of turn, and where a move ends.
+    if (coarse.empty() || !mv.from_known || last_of_move || since_coarse_mm >= kQueryBeads * process.bead_width_mm ||
+        since_coarse_rad >= kQueryDeg * std::numbers::pi / 180.0) {
+      coarse.push_back(static_cast<std::uint32_t>(head_samples.size()));
+      since_coarse_mm = since_coarse_rad = 0.0;
+    }
+    head_samples.push_back(q);
     if (!mv.process_on) return;
+    material.push_back({q.tip, static_cast<std::uint32_t>(material.size()), static_cast<std::int32_t>(mv.layer), static_cast<std::int32_t>(mv.region)});
     ++out.deposit_samples;
     const bool first_of_region =
         std::find(regions_started.begin(), regions_started.end(), mv.region) == regions_started.end();
@@ -221,7 +314,7 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
   };
   cb.move = [&](const detail::WalkMove& mv) {
     if (mv.layer != current_layer) end_layer(), current_layer = mv.layer;
-    if (!mv.from_known) return check_sample(mv, machine::forward(m, mv.to));
+    if (!mv.from_known) return check_sample(mv, machine::forward(m, mv.to), true);
     const Vec3 a = machine::forward(m, mv.from).tip_part_mm, b = machine::forward(m, mv.to).tip_part_mm;
     const double rot = std::max(mv.d_tilt_deg, mv.d_c_deg);
     const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(b - a) / spacing, rot / kSampleDeg))));
@@ -236,7 +329,7 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
       const machine::MachineToolPose tp = still ? machine::MachineToolPose{a + (b - a) * u, fixed_axis} : machine::forward(m, lerp(mv.from, mv.to, u));
       length += core::norm(tp.tip_part_mm - last);
       last = tp.tip_part_mm;
-      check_sample(mv, tp);
+      check_sample(mv, tp, k == pieces);
     }
     if (mv.process_on && !mv.rapid && mv.time_min > 0.0) {
       const double seconds = mv.time_min * 60.0;
@@ -250,6 +343,16 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
   bool end = false;
   if (auto st = detail::walk_gcode(m, gcode, &process, cb, &end); !st) return st.error();
   end_layer();
+  check_material(head_samples, coarse, std::move(material), model, process.bead_width_mm, out);
+  if (out.material_collisions > 0) {
+    const Collision& c = out.collision_list.front();
+    problem(c.line, c.layer, c.region, fmt::format("the head strikes the {} ({:.3f} mm)", c.body, c.depth_mm));
+  }
+  // Both kinds in program order, the first kMaxListedCollisions.
+  out.collision_list.insert(out.collision_list.end(), fixture_collisions.begin(), fixture_collisions.end());
+  std::stable_sort(out.collision_list.begin(), out.collision_list.end(), [](const Collision& a, const Collision& b) { return a.line < b.line; });
+  if (out.collision_list.size() > kMaxListedCollisions) out.collision_list.resize(kMaxListedCollisions);
+  out.collisions = out.head_collisions + out.material_collisions;
   return out;
 }
 

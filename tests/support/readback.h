@@ -31,6 +31,7 @@ struct ReadBack {
   std::size_t ungrounded = 0;       // deposit samples with no earlier-layer deposit (or plate) near under them
   std::vector<int> regions_starting_in_air;
   double on_s = 0.0, slow_s = 0.0;  // process-on feed time, and of it with the tip below half the deposit feed
+  std::size_t head_in_deposit = 0;  // samples with earlier deposit in the head (only when asked: brute force)
   std::string first_problem;
 };
 
@@ -43,8 +44,12 @@ struct ReadBack {
 //   or when a deposit sample of an earlier layer ("(layer N" comments) lies within REACH_MM.
 // - stall: a block with the process on whose tip path over its duration (F as LinuxCNC reads it
 //   in G94: XYZ mm/min, else rotary deg/min) is below half the deposit feed.
+// - with HEAD_VS_DEPOSIT (small programs only: every sample against every earlier deposit sample),
+//   a sample's head holds earlier deposit when a deposit sample farther than 1.5 beads from the tip
+//   lies within half a bead of the cone's or the cylinder's side or end (each solid grown by half a
+//   bead along its own height and radius).
 inline ReadBack read_back(const machine::MachineConfig& m, const process::ProcessConfig& proc, const Plate& plate, const std::string& gcode,
-                          double reach_mm, double spacing_mm) {
+                          double reach_mm, double spacing_mm, bool head_vs_deposit = false) {
   ReadBack rb;
   const double kPi = 3.14159265358979323846;
   const double z1 = m.nozzle.cone_height_mm, R = m.nozzle.cylinder_radius_mm, H = m.nozzle.cylinder_height_mm;
@@ -53,6 +58,7 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
     const double dx = std::max({plate.x0 - x, 0.0, x - plate.x1}), dy = std::max({plate.y0 - y, 0.0, y - plate.y1});
     return dx * dx + dy * dy <= r * r ? plate.top : plate.table_top;
   };
+  std::vector<core::Vec3> all_deposit;  // every deposit sample so far (HEAD_VS_DEPOSIT)
   std::map<std::array<long, 3>, std::vector<core::Vec3>> earlier;  // deposit of finished layers, 1-reach cells
   std::vector<core::Vec3> layer_pts;
   auto cell = [&](core::Vec3 p) {
@@ -129,8 +135,25 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
         rb.worst_head_mm = std::max(rb.worst_head_mm, -low);
         if (rb.first_problem.empty()) rb.first_problem = "head below the plate or table: " + line;
       }
+      if (head_vs_deposit) {
+        const double grow = 0.5 * proc.bead_width_mm, ignore = 1.5 * proc.bead_width_mm;
+        const double th = m.nozzle.tip_half_angle_deg * kPi / 180.0;
+        for (const core::Vec3& q : all_deposit) {
+          const core::Vec3 d = q - t;
+          if (core::norm(d) <= ignore) continue;
+          const double h = core::dot(d, a), r = core::norm(d - a * h);
+          const bool in_cone = h >= -grow && h <= z1 + grow && r * std::cos(th) - h * std::sin(th) <= grow;
+          const bool in_cylinder = h >= z1 - grow && h <= z1 + H + grow && r <= R + grow;
+          if (in_cone || in_cylinder) {
+            ++rb.head_in_deposit;
+            if (rb.first_problem.empty()) rb.first_problem = "head in earlier deposit: " + line;
+            break;
+          }
+        }
+      }
       if (!on || !have) continue;
       ++rb.deposit_samples;
+      if (head_vs_deposit) all_deposit.push_back(t);
       const bool first = std::find(started.begin(), started.end(), region) == started.end();
       if (first) started.push_back(region);
       const bool on_plate = t.x >= plate.x0 && t.x <= plate.x1 && t.y >= plate.y0 && t.y <= plate.y1 && t.z >= plate.top - 1e-3 &&

@@ -17,6 +17,7 @@
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
 #include "polyaxis/planner/plan.h"
+#include "polyaxis/verify/verify.h"
 
 namespace polyaxis::report {
 
@@ -43,6 +44,12 @@ struct ViewAxis {
   std::vector<std::array<std::uint32_t, 3>> links;  // from, to, is_break (0 or 1)
 };
 
+// A collision found reading the program back (verify::Collision), where and what, for the viewer.
+struct ViewCollision {
+  Vec3 position;     // the nozzle tip, placed frame
+  std::string what;  // "layer 3 region 1, line 812: the head strikes the deposit of layer 2 region 0 (0.40 mm)"
+};
+
 struct PlanView {
   std::string part;         // the part file, as given
   std::string machine;      // machine name
@@ -56,12 +63,15 @@ struct PlanView {
   std::optional<ViewAxis> axis;              // placed; with --decompose
   std::vector<ViewLayer> layers;
   std::vector<post::ProgramPoint> program;
+  std::vector<ViewCollision> collisions;  // the first verify::kMaxListedCollisions
 };
 
 // The view of PLAN. AXIS (part frame, before placement) may be null. METRICS_JSON is report.json.
 // The rotary ranges come from inverse kinematics along the program, as the G-code writer runs it.
+// CHECK, when given, supplies the collisions.
 PlanView make_plan_view(const planner::Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process,
-                        const analysis::CentroidalAxis* axis, std::string part, std::string metrics_json);
+                        const analysis::CentroidalAxis* axis, std::string part, std::string metrics_json,
+                        const verify::BuildCheck* check = nullptr);
 
 // METRICS_JSON as a JSON object indented by 2, keys in their order ("{}" when it is not an object).
 std::string metrics_object(std::string_view metrics_json);

@@ -14,6 +14,19 @@
 //     ground_lateral_mm = max(bead/2, step) + spacing,  step = max(max_step_bead_share·bead,
 //                 layer_max·tan α): the bead centre nearest under a point within a layer, or a
 //                 contour stepping out by the most a layer may.
+// - Material: the head is checked against the material deposited before it. Each deposit sample
+//   stands for a ball of radius bead/2 (a bead is bead wide and at most 0.8 bead high, and its
+//   samples are a quarter bead apart, so the balls along a bead cover it). Material within
+//   kIgnoreBeads bead widths of the tip is not checked: the bead being laid and the beads the tip
+//   rests on and against (a nozzle cone of half-angle θ tilted by at most 90° − θ from the layer's
+//   normal, as the planner's torch tilts are, does not reach below the tip's layer there). The
+//   head is checked every 1.5 bead of tip travel or 1.5° of axis turn and where each move ends;
+//   between two checks a head point moves at most the tip's travel plus its distance from the tip
+//   times the axis's turn, and half the larger gap on either side is added to the reach; where
+//   that finds something, every sample around is checked with its own (smaller) gaps. So the
+//   check is conservative by those margins. The nozzle is exact, head boxes are swept about the
+//   axis (conservative). A BVH over the deposit samples, each stamped with its place in the
+//   deposit order, answers every check.
 // - A region starts in mid-air when the first deposit sample of its program is not grounded.
 // - Stall: process-on feed time during which the tip moves slower than kStallShare of the
 //   process's deposit feed. Dwells after switching on (the process file's dwell_on_s) are counted
@@ -26,6 +39,7 @@
 #include <vector>
 
 #include "polyaxis/core/result.h"
+#include "polyaxis/core/vec3.h"
 #include "polyaxis/machine/build_model.h"
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
@@ -36,6 +50,20 @@ namespace polyaxis::verify {
 inline constexpr double kStallShare = 0.5;
 // Head clearance below this (mm) is rounding of the words, not a collision.
 inline constexpr double kClearanceSlackMm = 1e-3;
+// Material within this many bead widths of the tip is not checked against the head (see above).
+inline constexpr double kIgnoreBeads = 3.0;
+// At most this many collisions are listed; all are counted.
+inline constexpr std::size_t kMaxListedCollisions = 100;
+
+// The head striking something: the plate or the table (body "plate or table"), or material laid
+// earlier ("deposit of layer L region R").
+struct Collision {
+  std::uint64_t line = 0;  // G-code line of the move
+  std::int64_t layer = -1, region = -1;
+  core::Vec3 tip;          // the nozzle tip there, part frame
+  std::string body;
+  double depth_mm = 0.0;   // how far into the body (material: its ball into the head; ≤ 0 within the margin)
+};
 
 struct BuildCheck {
   std::uint64_t samples = 0;               // tool positions checked (every move, sampled)
@@ -51,6 +79,11 @@ struct BuildCheck {
   double process_on_s = 0.0;               // feed time of process-on moves
   double stalled_s = 0.0;                  // of which with the tip below kStallShare of the feed
   double process_on_dwell_s = 0.0;         // dwells with the process on
+  std::uint64_t material_collisions = 0;   // samples where the head strikes earlier deposit
+  double worst_material_depth_mm = 0.0;
+  std::uint64_t material_checks = 0;       // samples checked against the material
+  std::uint64_t collisions = 0;            // head_collisions + material_collisions
+  std::vector<Collision> collision_list;   // the first kMaxListedCollisions, in program order
   std::vector<std::string> first_problems; // up to 10, "line 120 (layer 3 region 0): ..."
 };
 

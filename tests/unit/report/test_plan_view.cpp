@@ -65,6 +65,7 @@ PlanView small_view(std::size_t program_points = 6) {
     p.region = p.layer;
     v.program.push_back(p);
   }
+  v.collisions.push_back({{3.0, 1.0, 5.5}, "layer 1 region 1, line 40: the head strikes the deposit of layer 0 region 0 (0.40 mm) \"<\\/script>\""});
   return v;
 }
 
@@ -115,6 +116,9 @@ TEST(PlanView, JsonReadsBackWhatWasWritten) {
   EXPECT_EQ(b.program.size(), v.program.size());
   EXPECT_TRUE(b.program[3].process_on);
   EXPECT_EQ(nlohmann::json::parse(b.metrics_json)["timings_s"]["read"].get<double>(), 0.5);
+  ASSERT_EQ(b.collisions.size(), 1u);
+  EXPECT_EQ(b.collisions[0].what, v.collisions[0].what);
+  EXPECT_NEAR(b.collisions[0].position.z, 5.5, 1e-9);
   EXPECT_EQ(plan_view_json(b), text);  // a second round trip changes nothing
   auto program = read_plan_program(text, "plan.json");
   ASSERT_TRUE(program.ok());
@@ -168,6 +172,10 @@ TEST(ViewData, ArraysDecodeToTheViewAndLayersIndexTheirPoints) {
   EXPECT_EQ(typed<float>(data["layers"][1]["unsupported"]).size(), 9u);
   EXPECT_EQ(data["layers"][1]["contour_starts"], nlohmann::json::array({0}));
   EXPECT_EQ(data["layers"][0]["unsupported"], "");
+  // Collisions go to the viewer as points with what was struck (drawn red and listed).
+  ASSERT_EQ(data["collisions"].size(), 1u);
+  EXPECT_EQ(data["collisions"][0]["position"][2].get<double>(), 5.5);
+  EXPECT_NE(data["collisions"][0]["what"].get<std::string>().find("deposit of layer 0"), std::string::npos);
 }
 
 TEST(ViewData, BigProgramsAreDecimatedKeepingEveryRunsEnds) {

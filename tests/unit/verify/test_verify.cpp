@@ -1,6 +1,7 @@
 // The build verifier (verify/verify.h) and the e2e tests' own read-back (tests/support/readback.h)
 // on hand-written programs: each fault found by both, a sound program passed by both.
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 
 #include <cmath>
 #include <string>
@@ -30,8 +31,21 @@ struct Bench {
     EXPECT_TRUE(c.ok()) << (c.ok() ? "" : c.error().message);
     return c.ok() ? c.value() : BuildCheck{};
   }
-  polyaxis::test::ReadBack read(const std::string& gcode) const { return polyaxis::test::read_back(m, p, plate, gcode, 1.1, 0.225); }
+  polyaxis::test::ReadBack read(const std::string& gcode, bool head_vs_deposit = false) const {
+    return polyaxis::test::read_back(m, p, plate, gcode, 1.1, 0.225, head_vs_deposit);
+  }
 };
+
+// A wall 20 mm long and 24 layers high (0.5 mm each) along X at Y = 0, upright, then MOVE.
+std::string wall_then(const std::string& move) {
+  std::string g = "G21 G90 G94 G17\n";
+  for (int k = 0; k < 24; ++k) {
+    const double z = 0.25 + 0.5 * k;
+    g += fmt::format("(layer {} region 0 perimeter 0)\nG1 X0 Y0 Z{:.4f} A0 C0 F3000\nM64 P0\nG1 X20 Y0 Z{:.4f} A0 C0 F480\nM65 P0\n", k, z, z);
+    g += fmt::format("G1 X20 Y0 Z{:.4f} A0 C0 F3000\n", z + 0.5);
+  }
+  return g + move + "M2\n";
+}
 
 // Two 10 mm beads, one on the other, upright: sound.
 const std::string kSound =
@@ -51,6 +65,32 @@ TEST(Verify, TwoBeadsOneOnTheOtherAreSound) {
   EXPECT_EQ(rb.head_below, 0u);
   EXPECT_EQ(rb.ungrounded, 0u);
   EXPECT_NEAR(rb.on_s, c.process_on_s, 1e-9);
+}
+
+// An injected collision: after the wall, a travel crosses it sideways with the upright nozzle's tip
+// at half its height, so the cone goes through the wall's upper half. Both the verifier and the
+// brute-force read-back find it; passing over the wall's top (the cone clear by 5 mm) they find
+// none. This test fails if the head is not checked against the deposit.
+TEST(Verify, TheHeadThroughEarlierDepositIsACollision) {
+  const Bench s;
+  const std::string through = wall_then("(layer 24 region 0 travel)\nG1 X10 Y-20 Z6 A0 C0 F3000\nG1 X10 Y20 Z6 A0 C0 F3000\n");
+  const BuildCheck c = s.verify(through);
+  EXPECT_GT(c.material_collisions, 0u);
+  EXPECT_EQ(c.collisions, c.head_collisions + c.material_collisions);
+  EXPECT_GT(c.worst_material_depth_mm, 1.0);  // the cone goes through the wall's top 6 mm
+  ASSERT_FALSE(c.collision_list.empty());
+  EXPECT_EQ(c.collision_list.front().layer, 24);
+  EXPECT_NE(c.collision_list.front().body.find("deposit of layer"), std::string::npos);
+  EXPECT_NE(c.first_problems.back().find("strikes the deposit"), std::string::npos);
+  EXPECT_GT(s.read(through, true).head_in_deposit, 0u);
+
+  const std::string over = wall_then("(layer 24 region 0 travel)\nG1 X10 Y-20 Z17 A0 C0 F3000\nG1 X10 Y20 Z17 A0 C0 F3000\n");
+  const BuildCheck clear = s.verify(over);
+  EXPECT_EQ(clear.material_collisions, 0u) << (clear.collision_list.empty() ? "" : clear.collision_list.front().body);
+  EXPECT_EQ(s.read(over, true).head_in_deposit, 0u);
+  // Laying the wall itself, bead on bead under an upright nozzle, strikes nothing.
+  EXPECT_EQ(s.verify(wall_then("")).material_collisions, 0u);
+  EXPECT_EQ(s.read(wall_then(""), true).head_in_deposit, 0u);
 }
 
 TEST(Verify, ABeadOverNothingAndARegionInMidAir) {

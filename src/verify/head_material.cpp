@@ -1,0 +1,170 @@
+#include "head_material.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace polyaxis::verify::detail {
+namespace {
+
+constexpr std::uint32_t kLeafSize = 8;
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+std::vector<std::array<double, 2>> rect(double h0, double r0, double h1, double r1) { return {{h0, r0}, {h1, r0}, {h1, r1}, {h0, r1}}; }
+
+void split_hr(Vec3 d, Vec3 axis, double& h, double& r) {
+  h = core::dot(d, axis);
+  const Vec3 side = d - axis * h;
+  r = std::sqrt(core::dot(side, side));
+}
+
+}  // namespace
+
+HeadProfile::HeadProfile(const machine::BuildModel& model) {
+  std::vector<std::vector<std::array<double, 2>>> polys;
+  const machine::NozzleModel& n = model.nozzle;
+  const double hc = n.cone_height_mm;
+  polys.push_back({{0.0, 0.0}, {hc, 0.0}, {hc, hc * std::tan(n.tip_half_angle_deg * kDegToRad)}});
+  if (n.cylinder_height_mm > 0.0) polys.push_back(rect(hc, 0.0, hc + n.cylinder_height_mm, n.cylinder_radius_mm));
+  for (const machine::HeadBox& b : model.head_boxes) {
+    // The box turning about the axis sweeps the annulus between its nearest and farthest points.
+    const double nx = std::clamp(0.0, b.min_mm[0], b.max_mm[0]), ny = std::clamp(0.0, b.min_mm[1], b.max_mm[1]);
+    double far = 0.0;
+    for (const double x : {b.min_mm[0], b.max_mm[0]}) {
+      for (const double y : {b.min_mm[1], b.max_mm[1]}) far = std::max(far, std::hypot(x, y));
+    }
+    polys.push_back(rect(b.min_mm[2], std::hypot(nx, ny), b.max_mm[2], far));
+  }
+  for (const auto& poly : polys) {
+    Piece piece;
+    piece.h_min = piece.h_max = poly.front()[0];
+    for (const auto& v : poly) piece.h_min = std::min(piece.h_min, v[0]), piece.h_max = std::max(piece.h_max, v[0]);
+    std::vector<Edge>& edges = piece.edges;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const auto& a = poly[i];
+      const auto& b = poly[(i + 1) % poly.size()];
+      const double ex = b[0] - a[0], ey = b[1] - a[1];
+      const double len = std::sqrt(ex * ex + ey * ey);
+      if (len == 0.0) continue;  // a degenerate box side
+      edges.push_back({a[0], a[1], ex, ey, ey / len, -ex / len, 1.0 / (len * len)});
+    }
+    if (!edges.empty()) pieces_.push_back(std::move(piece));
+  }
+}
+
+bool HeadProfile::may_touch(Vec3 lo, Vec3 hi, Vec3 c, double rho, Vec3 tip, Vec3 axis, double reach) const {
+  // The box's extent along the axis, from the tip.
+  const double a[3] = {axis.x, axis.y, axis.z}, l[3] = {lo.x, lo.y, lo.z}, u[3] = {hi.x, hi.y, hi.z};
+  double h_lo = -core::dot(tip, axis), h_hi = h_lo;
+  for (int k = 0; k < 3; ++k) h_lo += a[k] * (a[k] > 0.0 ? l[k] : u[k]), h_hi += a[k] * (a[k] > 0.0 ? u[k] : l[k]);
+  double h = 0.0, r = 0.0;
+  split_hr(c - tip, axis, h, r);
+  for (const Piece& piece : pieces_) {
+    if (h_hi < piece.h_min - reach || h_lo > piece.h_max + reach) continue;
+    double m = -std::numeric_limits<double>::infinity();
+    for (const Edge& e : piece.edges) m = std::max(m, (h - e.ax) * e.nx + (r - e.ay) * e.ny);
+    if (m - rho <= reach) return true;
+  }
+  return false;
+}
+
+double HeadProfile::distance(Vec3 d, Vec3 axis) const {
+  double h = 0.0, r = 0.0;
+  split_hr(d, axis, h, r);
+  double best = std::numeric_limits<double>::infinity();
+  for (const Piece& p : pieces_) {
+    const std::vector<Edge>& piece = p.edges;
+    // Signed distance to the convex piece: the largest edge-line distance inside, else the
+    // distance to the nearest edge.
+    double max_edge = -std::numeric_limits<double>::infinity(), nearest2 = std::numeric_limits<double>::infinity();
+    bool inside = true;
+    for (const Edge& e : piece) {
+      const double px = h - e.ax, py = r - e.ay;
+      const double s = px * e.nx + py * e.ny;
+      max_edge = std::max(max_edge, s);
+      if (s > 0.0) {
+        inside = false;
+        const double t = std::clamp((px * e.ex + py * e.ey) * e.inv_len2, 0.0, 1.0);
+        const double qx = px - t * e.ex, qy = py - t * e.ey;
+        nearest2 = std::min(nearest2, qx * qx + qy * qy);
+      }
+    }
+    best = std::min(best, inside ? max_edge : std::sqrt(nearest2));
+  }
+  return best;
+}
+
+MaterialIndex::MaterialIndex(std::vector<MaterialSample> samples) : samples_(std::move(samples)) {
+  if (samples_.empty()) return;
+  nodes_.reserve(2 * samples_.size() / kLeafSize + 2);
+  build(0, static_cast<std::uint32_t>(samples_.size()));
+}
+
+std::uint32_t MaterialIndex::build(std::uint32_t first, std::uint32_t count) {
+  const auto id = static_cast<std::uint32_t>(nodes_.size());
+  nodes_.emplace_back();
+  Node node;
+  node.lo = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+  node.hi = {-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
+  node.min_stamp = std::numeric_limits<std::uint32_t>::max();
+  for (std::uint32_t i = first; i < first + count; ++i) {
+    for (int k = 0; k < 3; ++k) node.lo[k] = std::min(node.lo[k], samples_[i].position[k]), node.hi[k] = std::max(node.hi[k], samples_[i].position[k]);
+    node.min_stamp = std::min(node.min_stamp, samples_[i].stamp);
+  }
+  if (count <= kLeafSize) {
+    node.first = first, node.count = count;
+    nodes_[id] = node;
+    return id;
+  }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (node.hi[k] - node.lo[k] > node.hi[axis] - node.lo[axis]) axis = k;
+  }
+  const std::uint32_t half = count / 2;
+  std::nth_element(samples_.begin() + first, samples_.begin() + first + half, samples_.begin() + first + count,
+                   [axis](const MaterialSample& a, const MaterialSample& b) { return a.position[axis] < b.position[axis]; });
+  node.left = build(first, half);
+  node.right = build(first + half, count - half);
+  nodes_[id] = node;
+  return id;
+}
+
+std::optional<MaterialHit> MaterialIndex::deepest(const HeadProfile& head, Vec3 tip, Vec3 axis, std::uint32_t before, double radius_mm,
+                                                  double ignore_mm, double margin_mm, double turn_rad) const {
+  std::optional<MaterialHit> best;
+  if (nodes_.empty()) return best;
+  std::uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (n.min_stamp >= before) continue;
+    const Vec3 lo{n.lo[0], n.lo[1], n.lo[2]}, hi{n.hi[0], n.hi[1], n.hi[2]};
+    const Vec3 c = (lo + hi) * 0.5;
+    const double rho = 0.5 * core::norm(hi - lo);
+    const double dc = core::norm(c - tip);
+    if (dc + rho <= ignore_mm) continue;  // all of it beside the tip
+    const double reach = radius_mm + margin_mm + turn_rad * (dc + rho);
+    if (!head.may_touch(lo, hi, c, rho, tip, axis, reach)) continue;
+    if (n.count == 0) {
+      if (top + 2 > 64) continue;  // cannot happen: the tree is balanced (depth ≤ 2·log2 n)
+      stack[top++] = n.left;
+      stack[top++] = n.right;
+      continue;
+    }
+    for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
+      const MaterialSample& s = samples_[i];
+      if (s.stamp >= before) continue;
+      const Vec3 p{s.position[0], s.position[1], s.position[2]};
+      const double d = core::norm(p - tip);
+      if (d <= ignore_mm) continue;
+      const double sd = head.distance(p - tip, axis);
+      if (sd > radius_mm + margin_mm + turn_rad * d) continue;
+      const double depth = radius_mm - sd;
+      if (!best || depth > best->depth_mm) best = MaterialHit{i, depth};
+    }
+  }
+  return best;
+}
+
+}  // namespace polyaxis::verify::detail

@@ -1,0 +1,86 @@
+// The head against the material deposited before it (issue 12, item 1): the head as solids of
+// revolution about the tool axis, and a bounding-volume hierarchy over the program's deposit
+// samples, each stamped with its place in the deposit order, so that one index answers "what laid
+// before this point does the head strike" at any point of the program. Private to verify.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "polyaxis/core/vec3.h"
+#include "polyaxis/machine/build_model.h"
+
+namespace polyaxis::verify::detail {
+
+using core::Vec3;
+
+// The head model (nozzle cone, cylinder, head boxes) as profiles in (h, r): h along the tool axis
+// from the tip, r from the axis. Cone and cylinder are exact; each head box is replaced by the
+// solid it sweeps turning about the axis (its tool-frame X and Y turn with C on the machine), so
+// the distance is exact for the nozzle and conservative for the boxes.
+class HeadProfile {
+ public:
+  explicit HeadProfile(const machine::BuildModel& model);
+  // Signed distance (mm) from the point TIP + D to the head whose tool axis is AXIS (unit):
+  // negative inside. 1-Lipschitz. Cost: a few dozen flops per profile piece.
+  double distance(Vec3 d, Vec3 axis) const;
+  // False when no point within REACH of the head can lie in the box [LO, HI] (whose points are
+  // within RHO of its centre C): per piece, the box's extent along the axis against the piece's,
+  // then a lower bound of the distance from C (the largest distance to an edge's line).
+  bool may_touch(Vec3 lo, Vec3 hi, Vec3 c, double rho, Vec3 tip, Vec3 axis, double reach) const;
+
+ private:
+  struct Edge {
+    double ax, ay, ex, ey;  // start and direction
+    double nx, ny;          // outward unit normal
+    double inv_len2;
+  };
+  struct Piece {
+    std::vector<Edge> edges;  // convex, counter-clockwise in (h, r)
+    double h_min = 0.0, h_max = 0.0;
+  };
+  std::vector<Piece> pieces_;
+};
+
+struct MaterialSample {
+  std::array<float, 3> position;  // part frame, mm
+  std::uint32_t stamp = 0;        // its place in the deposit order
+  std::int32_t layer = 0, region = 0;
+};
+
+struct MaterialHit {
+  std::size_t sample = 0;  // index into the samples given to the index
+  double depth_mm = 0.0;   // how far the material's ball reaches into the head (may be < 0 within the margin)
+};
+
+// A static bounding-volume hierarchy over deposit samples (median splits, leaves of a few
+// samples), each node holding the smallest stamp below it, so that material laid later is pruned
+// whole. Building is O(n log n); a query visits the nodes within reach of the head.
+class MaterialIndex {
+ public:
+  explicit MaterialIndex(std::vector<MaterialSample> samples);
+  const MaterialSample& sample(std::size_t i) const { return samples_[i]; }
+  std::size_t size() const { return samples_.size(); }
+
+  // The deepest sample laid before BEFORE (stamp < BEFORE) and farther than IGNORE_MM from TIP
+  // whose ball of RADIUS_MM comes within MARGIN_MM + TURN_RAD · (its distance from the tip) of
+  // the head at (TIP, AXIS); none when there is none.
+  std::optional<MaterialHit> deepest(const HeadProfile& head, Vec3 tip, Vec3 axis, std::uint32_t before, double radius_mm,
+                                     double ignore_mm, double margin_mm, double turn_rad) const;
+
+ private:
+  struct Node {
+    std::array<float, 3> lo, hi;
+    std::uint32_t min_stamp = 0;
+    std::uint32_t first = 0, count = 0;  // samples [first, first + count) of a leaf
+    std::uint32_t left = 0, right = 0;   // children of an inner node (count == 0)
+  };
+  std::uint32_t build(std::uint32_t first, std::uint32_t count);
+
+  std::vector<MaterialSample> samples_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace polyaxis::verify::detail
