@@ -29,6 +29,8 @@ constexpr double kSampleDeg = 1.0;
 // of axis turn); between checks the margin grows by half the gap.
 constexpr double kQueryBeads = 1.5;
 constexpr double kQueryDeg = 1.5;
+// The deposit is kept for the head check as samples at most this far apart (share of the bead).
+constexpr double kMaterialBeads = 0.5;
 
 MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
   return {a.x_mm + (b.x_mm - a.x_mm) * u, a.y_mm + (b.y_mm - a.y_mm) * u, a.z_mm + (b.z_mm - a.z_mm) * u,
@@ -167,7 +169,8 @@ void check_material(const std::vector<HeadQuery>& samples, const std::vector<std
                     std::vector<detail::MaterialSample> material, const machine::BuildModel& model, double bead_mm, BuildCheck& out) {
   const detail::HeadProfile head(model);
   const detail::MaterialIndex index(std::move(material));
-  const double radius = 0.5 * bead_mm, ignore = kIgnoreBeads * bead_mm;
+  // A bead is covered by balls at most kMaterialBeads apart of radius √((bead/2)² + (gap/2)²).
+  const double radius = std::hypot(0.5 * bead_mm, 0.5 * kMaterialBeads * bead_mm), ignore = kIgnoreBeads * bead_mm;
   // The travel and turn from sample A to sample B (A < B), summed over the samples between.
   std::vector<double> run_mm(samples.size() + 1, 0.0), run_rad(samples.size() + 1, 0.0);
   for (std::size_t i = 0; i < samples.size(); ++i) run_mm[i + 1] = run_mm[i] + samples[i].gap_mm, run_rad[i + 1] = run_rad[i] + samples[i].gap_rad;
@@ -267,7 +270,8 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
   std::vector<detail::MaterialSample> material;
   std::vector<HeadQuery> head_samples;
   std::vector<std::uint32_t> coarse;
-  double since_coarse_mm = 0.0, since_coarse_rad = 0.0;
+  double since_coarse_mm = 0.0, since_coarse_rad = 0.0, since_material_mm = 0.0;
+  std::uint64_t last_material_line = 0;
   std::vector<Collision> fixture_collisions;  // the plate or the table
   auto check_sample = [&](const detail::WalkMove& mv, const machine::MachineToolPose& tp, bool last_of_move) {
     ++out.samples;
@@ -301,7 +305,14 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
     }
     head_samples.push_back(q);
     if (!mv.process_on) return;
-    material.push_back({q.tip, static_cast<std::uint32_t>(material.size()), static_cast<std::int32_t>(mv.layer), static_cast<std::int32_t>(mv.region)});
+    // Material samples at most kMaterialBeads apart along a bead (the first and last of each move kept).
+    const bool bead_start = material.empty() || !head_samples.back().gap_mm || !mv.from_known || mv.line != last_material_line;
+    since_material_mm += q.gap_mm;
+    if (bead_start || last_of_move || since_material_mm >= kMaterialBeads * process.bead_width_mm) {
+      material.push_back({q.tip, static_cast<std::uint32_t>(material.size()), static_cast<std::int32_t>(mv.layer), static_cast<std::int32_t>(mv.region)});
+      since_material_mm = 0.0;
+      last_material_line = mv.line;
+    }
     ++out.deposit_samples;
     const bool first_of_region =
         std::find(regions_started.begin(), regions_started.end(), mv.region) == regions_started.end();

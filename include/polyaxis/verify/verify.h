@@ -14,9 +14,10 @@
 //     ground_lateral_mm = max(bead/2, step) + spacing,  step = max(max_step_bead_share·bead,
 //                 layer_max·tan α): the bead centre nearest under a point within a layer, or a
 //                 contour stepping out by the most a layer may.
-// - Material: the head is checked against the material deposited before it. Each deposit sample
-//   stands for a ball of radius bead/2 (a bead is bead wide and at most 0.8 bead high, and its
-//   samples are a quarter bead apart, so the balls along a bead cover it). Material within
+// - Material: the head is checked against the material deposited before it. The deposit is kept
+//   as samples at most half a bead apart along each bead, each standing for a ball of radius
+//   √((bead/2)² + (bead/4)²) ≈ 0.56 bead (a bead is bead wide and at most 0.8 bead high, so the
+//   balls along it cover it). Material within
 //   kIgnoreBeads bead widths of the tip is not checked: the bead being laid and the beads the tip
 //   rests on and against (a nozzle cone of half-angle θ tilted by at most 90° − θ from the layer's
 //   normal, as the planner's torch tilts are, does not reach below the tip's layer there). The
