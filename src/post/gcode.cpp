@@ -337,21 +337,136 @@ std::optional<MachinePose> other_branch_at_pole(const machine::MachineConfig& m,
   return std::nullopt;
 }
 
+// Writing a program point by point, in stages: the first pose, leaving the singular axis where the
+// branch is free, the move itself (with a stall split), and an unwind.
+class ProgramWriter {
+ public:
+  ProgramWriter(const machine::MachineConfig& m, const process::ProcessConfig& p, std::span<const ProgramPoint> points, const GcodeOptions& o)
+      : m_(m), p_(p), points_(points), o_(o), w_(m, o), tol_(o.chordal_mm * kSubdivisionShare) {}
+
+  Writer& out() { return w_; }
+
+  // The first point: a rapid to the branch that gets furthest, turned for an unwind point.
+  core::Status first(const Where& where) {
+    const ProgramPoint& pt = points_[0];
+    auto pose = machine::inverse(m_, pt.tip_part_mm, pt.tool_axis_part, nullptr);
+    if (!pose) return fail(pose.error(), where);
+    std::vector<MachinePose> candidates{pose.value()};
+    MachinePose hint = pose.value();
+    hint.a_or_b_deg = -hint.a_or_b_deg;
+    hint.c_deg += hint.c_deg > 0.0 ? -180.0 : 180.0;
+    if (auto other = machine::inverse(m_, pt.tip_part_mm, pt.tool_axis_part, &hint)) candidates.push_back(other.value());
+    prev_ = pick_branch(m_, points_, 1, candidates);
+    if (pt.c_unwind && machine::unwinds_c(m_) && singular(prev_)) {
+      auto target = unwind_target_deg(m_, points_, 1, prev_);
+      if (!target) return fail(target.error(), where);
+      MachinePose at_target = prev_;
+      at_target.c_deg = target.value();
+      auto turned = machine::inverse(m_, pt.tip_part_mm, pt.tool_axis_part, &at_target);
+      if (!turned) return fail(turned.error(), where);
+      prev_ = turned.value();
+    }
+    return w_.move(prev_, /*rapid=*/true, 0.0, where);
+  }
+
+  // Leaving the singular axis with the process off, the branch is free: the search's choice.
+  core::Status leave_pole(std::size_t i, const Where& where) {
+    if (process_on_ || !singular(prev_) || points_[i - 1].c_unwind) return {};
+    const auto other = other_branch_at_pole(m_, prev_);
+    if (!other) return {};
+    const MachinePose chosen = pick_branch(m_, points_, i, {prev_, *other});
+    if (chosen.c_deg == prev_.c_deg) return {};
+    auto turn = machine::turn_c_in_place(m_, prev_, chosen.c_deg, tol_);
+    if (!turn) return fail(turn.error(), where);
+    return emit(turn.value(), o_.rapid_travel, p_.travel_feed_mm_s, where);
+  }
+
+  // The move from point I − 1 to point I.
+  core::Status move_to(std::size_t i, const Where& where) {
+    const ProgramPoint& from = points_[i - 1];
+    const ProgramPoint& pt = points_[i];
+    auto poses = machine::subdivide(m_, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev_, tol_);
+    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where.str(), end_stop_or(m_, prev_, pt, poses.error().message)));
+    if (pt.process_on && stalls(m_, prev_, poses.value(), pt.feed_mm_s)) {
+      // The rotary axes cannot keep up with the tip here: turn the tool in place with the process
+      // off, then lay the bead with the new axis (verify/verify.h, stall).
+      ++stall_splits_;
+      auto turn = machine::subdivide(m_, from.tip_part_mm, from.tool_axis_part, from.tip_part_mm, pt.tool_axis_part, prev_, tol_);
+      if (!turn) return fail(turn.error(), where);
+      switch_process(false);
+      if (auto st = emit(turn.value(), o_.rapid_travel, p_.travel_feed_mm_s, where); !st) return st;
+      poses = machine::subdivide(m_, from.tip_part_mm, pt.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev_, tol_);
+      if (!poses) return fail(poses.error(), where);
+    }
+    switch_process(pt.process_on);
+    return emit(poses.value(), o_.rapid_travel && !pt.process_on, pt.feed_mm_s, where);
+  }
+
+  // At an unwind point, C turned by whole (or half) turns to where the coming sweep fits.
+  core::Status unwind(std::size_t i, const Where& where) {
+    const ProgramPoint& pt = points_[i];
+    if (!pt.c_unwind || pt.process_on || !machine::unwinds_c(m_)) return {};
+    auto target = unwind_target_deg(m_, points_, i + 1, prev_);
+    if (!target) return fail(target.error(), where);
+    auto turn = machine::turn_c_in_place(m_, prev_, target.value(), tol_);
+    if (!turn) return make_error(turn.error().code, fmt::format("{}: unwinding C: {}", where.str(), turn.error().message));
+    if (!turn.value().empty()) ++unwinds_;
+    return emit(turn.value(), o_.rapid_travel, p_.travel_feed_mm_s, where);
+  }
+
+  // Switches the process off, and the closing comments.
+  void finish() {
+    switch_process(false);
+    if (stall_splits_ > 0) {
+      w_.line(fmt::format("(polyaxis: {} turns in place with the process off, where the rotary axes could not keep the deposit feed)",
+                          stall_splits_));
+    }
+    if (unwinds_ > 0) w_.line(fmt::format("(polyaxis: C unwound {} times, by whole turns with the tool along C)", unwinds_));
+    w_.line("M2");
+  }
+
+ private:
+  core::Error fail(const core::Error& e, const Where& where) const { return make_error(e.code, fmt::format("{}: {}", where.str(), e.message)); }
+
+  core::Status emit(const std::vector<MachinePose>& poses, bool rapid, double feed_mm_s, const Where& where) {
+    for (const MachinePose& pose : poses) {
+      if (auto st = w_.move(pose, rapid, feed_mm_s, where); !st) return st;
+    }
+    if (!poses.empty()) prev_ = poses.back();
+    return {};
+  }
+
+  void switch_process(bool on) {
+    if (on == process_on_) return;
+    w_.line(on ? p_.process_on : p_.process_off);
+    if (on && p_.dwell_on_s > 0.0) w_.line(fmt::format("G4 P{:.4f}", p_.dwell_on_s));
+    process_on_ = on;
+  }
+
+  const machine::MachineConfig& m_;
+  const process::ProcessConfig& p_;
+  std::span<const ProgramPoint> points_;
+  const GcodeOptions& o_;
+  Writer w_;
+  // The written words are rounded (0.1 µm, 0.0001°): keep that share of the tolerance in hand so
+  // the tip read back from the file stays within options.chordal_mm.
+  const double tol_;
+  MachinePose prev_{};
+  bool process_on_ = false;
+  std::uint64_t stall_splits_ = 0, unwinds_ = 0;
+};
 
 }  // namespace
 
 core::Result<std::string> write_gcode(const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                       std::span<const ProgramPoint> points, const GcodeOptions& options) {
   if (points.empty()) return make_error(ErrorCode::kInfeasible, "no program points to write");
-  Writer w(machine, options);
+  ProgramWriter pw(machine, process, points, options);
+  Writer& w = pw.out();
   w.line(fmt::format("(polyaxis: machine {} [{}], process {})", sanitize_comment(machine.name),
                      machine::kinematics_name(machine.kind), sanitize_comment(process.name)));
   w.line("(axis words are joint positions: run with identity kinematics)");
   w.line("G21 G90 G94 G17");
-
-  bool process_on = false;
-  std::uint64_t stall_splits = 0, unwinds = 0;
-  MachinePose prev{};
   core::Progress progress("G-code", points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     if ((i & 4095) == 0) progress.update(i);
@@ -365,97 +480,19 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
     if (!pt.comment_if_new_block.empty()) {
       w.line(fmt::format("(layer {} region {} {})", pt.layer, pt.region, sanitize_comment(pt.comment_if_new_block)));
     }
-    // The written words are rounded (0.1 µm, 0.0001°): keep that share of the tolerance in hand
-    // so the tip read back from the file stays within options.chordal_mm.
-    const double tol = options.chordal_mm * kSubdivisionShare;
     if (i == 0) {
-      auto pose = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, nullptr);
-      if (!pose) return make_error(pose.error().code, fmt::format("{}: {}", where.str(), pose.error().message));
-      std::vector<MachinePose> candidates{pose.value()};
-      MachinePose hint = pose.value();
-      hint.a_or_b_deg = -hint.a_or_b_deg;
-      hint.c_deg += hint.c_deg > 0.0 ? -180.0 : 180.0;
-      if (auto other = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, &hint)) candidates.push_back(other.value());
-      prev = pick_branch(machine, points, 1, candidates);
-      if (pt.c_unwind && machine::unwinds_c(machine) && singular(prev)) {
-        auto target = unwind_target_deg(machine, points, 1, prev);
-        if (!target) return make_error(target.error().code, fmt::format("{}: {}", where.str(), target.error().message));
-        MachinePose at_target = prev;
-        at_target.c_deg = target.value();
-        auto turned = machine::inverse(machine, pt.tip_part_mm, pt.tool_axis_part, &at_target);
-        if (!turned) return make_error(turned.error().code, fmt::format("{}: {}", where.str(), turned.error().message));
-        prev = turned.value();
-      }
-      if (auto st = w.move(prev, /*rapid=*/true, 0.0, where); !st) return st.error();
+      if (auto st = pw.first(where); !st) return st.error();
       continue;
     }
-    const ProgramPoint& from = points[i - 1];
-    if (!process_on && singular(prev) && !from.c_unwind) {
-      // Leaving the singular axis with the process off: the branch is free here (search above).
-      if (auto other = other_branch_at_pole(machine, prev)) {
-        const MachinePose chosen = pick_branch(machine, points, i, {prev, *other});
-        if (chosen.c_deg != prev.c_deg) {
-          auto turn = machine::turn_c_in_place(machine, prev, chosen.c_deg, tol);
-          if (!turn) return make_error(turn.error().code, fmt::format("{}: {}", where.str(), turn.error().message));
-          for (const MachinePose& pose : turn.value()) {
-            if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
-          }
-          if (!turn.value().empty()) prev = turn.value().back();
-        }
-      }
-    }
-    auto poses = machine::subdivide(machine, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev, tol);
-    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where.str(), end_stop_or(machine, prev, pt, poses.error().message)));
-    if (pt.process_on && stalls(machine, prev, poses.value(), pt.feed_mm_s)) {
-      // The rotary axes cannot keep up with the tip here: turn the tool in place with the process
-      // off, then lay the bead with the new axis (verify/verify.h, stall).
-      ++stall_splits;
-      auto turn = machine::subdivide(machine, from.tip_part_mm, from.tool_axis_part, from.tip_part_mm, pt.tool_axis_part, prev, tol);
-      if (!turn) return make_error(turn.error().code, fmt::format("{}: {}", where.str(), turn.error().message));
-      if (process_on) w.line(process.process_off), process_on = false;
-      for (const MachinePose& pose : turn.value()) {
-        if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
-      }
-      prev = turn.value().back();
-      poses = machine::subdivide(machine, from.tip_part_mm, pt.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev, tol);
-      if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where.str(), poses.error().message));
-    }
-    if (pt.process_on && !process_on) {
-      w.line(process.process_on);
-      if (process.dwell_on_s > 0.0) w.line(fmt::format("G4 P{:.4f}", process.dwell_on_s));
-      process_on = true;
-    } else if (!pt.process_on && process_on) {
-      w.line(process.process_off);
-      process_on = false;
-    }
-    const bool rapid = options.rapid_travel && !pt.process_on;
-    for (const MachinePose& pose : poses.value()) {
-      if (auto st = w.move(pose, rapid, pt.feed_mm_s, where); !st) return st.error();
-    }
-    prev = poses.value().back();
-    if (pt.c_unwind && !pt.process_on && machine::unwinds_c(machine)) {
-      auto target = unwind_target_deg(machine, points, i + 1, prev);
-      if (!target) return make_error(target.error().code, fmt::format("{}: {}", where.str(), target.error().message));
-      auto turn = machine::turn_c_in_place(machine, prev, target.value(), tol);
-      if (!turn) return make_error(turn.error().code, fmt::format("{}: unwinding C: {}", where.str(), turn.error().message));
-      if (!turn.value().empty()) ++unwinds;
-      for (const MachinePose& pose : turn.value()) {
-        if (auto st = w.move(pose, options.rapid_travel, process.travel_feed_mm_s, where); !st) return st.error();
-      }
-      if (!turn.value().empty()) prev = turn.value().back();
-    }
+    if (auto st = pw.leave_pole(i, where); !st) return st.error();
+    if (auto st = pw.move_to(i, where); !st) return st.error();
+    if (auto st = pw.unwind(i, where); !st) return st.error();
     if (w.over_cap()) {
       return make_error(ErrorCode::kOutput,
                         fmt::format("the program exceeds the output cap of {} bytes at point {}", options.max_output_bytes, i));
     }
   }
-  if (process_on) w.line(process.process_off);
-  if (stall_splits > 0) {
-    w.line(fmt::format("(polyaxis: {} turns in place with the process off, where the rotary axes could not keep the deposit feed)",
-                       stall_splits));
-  }
-  if (unwinds > 0) w.line(fmt::format("(polyaxis: C unwound {} times, by whole turns with the tool along C)", unwinds));
-  w.line("M2");
+  pw.finish();
   if (w.over_cap()) {
     return make_error(ErrorCode::kOutput, fmt::format("the program exceeds the output cap of {} bytes", options.max_output_bytes));
   }
