@@ -2,9 +2,15 @@
 //
 // The axis words are joint positions (machine/kinematics.h): the program runs on a controller with
 // identity kinematics, e.g. trivkins or LinuxCNC's switchable trt configs in identity mode (M429).
-// The writer does the inverse kinematics itself, point by point, keeping the solution branch and
-// the C turn closest to the previous point, and subdivides every move so the tip stays within
-// GcodeOptions::chordal_mm of the planned straight segment.
+// The writer does the inverse kinematics itself and subdivides every move so the tip stays within
+// GcodeOptions::chordal_mm of the planned straight segment. Along a move the solution branch and
+// the C turn follow the previous pose; where the branch is free (the first point, and a pose with
+// the tool along C and the process off) both branches are followed along the program to the next
+// such pose and the one that gets further within the limits is taken (C turned in place to it).
+// At an unwind point (ProgramPoint::c_unwind) on a machine that unwinds (machine::unwinds_c), C is
+// turned in place by whole or half turns so that its sweep to the next unwind point fits the range.
+// Deposit moves the rotary axes would make too slow are split into a turn in place with the
+// process off and the bead.
 //
 // Feed (G94, units per minute). LinuxCNC reads F as follows (G-code overview, "Feed Rate"): when any
 // of X Y Z moves, F is the XYZ path speed in mm/min and the rotary axes are coordinated to start and
@@ -42,8 +48,8 @@ struct GcodeOptions {
 // switching on), a block comment when comment_if_new_block is set, and the G1 (or G0) blocks of the
 // subdivided move; process off if still on, then M2. Linear words and rotary words (degrees) have
 // 4 decimals; every block carries every axis word; F is written when it changes.
-// Errors: kMachineLimit quoting the first move whose pose leaves a soft limit (O1) or that a 3-axis
-// machine cannot make; kInternal for a non-finite value anywhere (O4) or a feed ≤ 0; kInfeasible
+// Errors: kMachineLimit quoting the first move whose pose leaves a soft limit (O1), that a 3-axis
+// machine cannot make, that runs C into an end stop, or whose unwind sweep fits no start; kInternal for a non-finite value anywhere (O4) or a feed ≤ 0; kInfeasible
 // for an empty program or an unreachable chordal tolerance; kOutput above max_output_bytes.
 // Deterministic: the same input gives the same bytes. Cost: linear in the number of blocks.
 core::Result<std::string> write_gcode(const machine::MachineConfig& machine, const process::ProcessConfig& process,
