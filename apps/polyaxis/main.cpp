@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   const app::Runner simulate = app::add_simulate_command(app);
   const app::Runner analyze = app::add_analyze_command(app);
   const app::Runner view = app::add_view_command(app);
+  const app::Runner explain = app::add_explain_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -47,6 +48,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("simulate")) return simulate();
     if (app.got_subcommand("analyze")) return analyze();
     if (app.got_subcommand("view")) return view();
+    if (app.got_subcommand("explain")) return explain();
     return 2;
   } catch (const core::InvariantError& e) {
     std::fprintf(stderr, "polyaxis: internal error: %s\n", e.what());

@@ -7,7 +7,9 @@
 #include <cmath>
 
 #include "polyaxis/mesh/properties.h"
+#include "clearance.h"
 #include "reach.h"
+#include "sequence.h"
 #include "support.h"
 #include "transit.h"
 #include "unwind.h"
@@ -100,7 +102,7 @@ core::Status guard_axes(Plan& plan, const machine::MachineConfig& machine, const
                         region.direction.x, region.direction.y, region.direction.z, options.head_clearance_mm,
                         machine.nozzle.cylinder_radius_mm, machine.nozzle.cone_height_mm));
       }
-      if (core::norm(p.tool_axis - axis) > 1e-12) ++plan.axes_turned;
+      if (core::norm(p.tool_axis - axis) > 1e-12) ++plan.axes_turned, ++paths[k].axes_turned;
       p.tool_axis = axis;
       return {};
     };
@@ -143,6 +145,136 @@ core::Status first_deposit_on_plate(const Plan& plan, const process::ProcessConf
                                         region, low, process.bead_width_mm));
   }
   return {};
+}
+
+// Puts the layers (with their toolpaths) in build order (sequence.h) and numbers them in that order.
+void order_layers(Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process) {
+  plan.c_space_radius_mm = std::max(machine.nozzle.cylinder_radius_mm,
+                                    machine.nozzle.cone_height_mm * std::tan(machine.nozzle.tip_half_angle_deg * kPi / 180.0)) +
+                          process.rules.c_space_margin_mm;
+  const detail::Sequence seq = detail::sequence_layers(plan.layers.layers, plan.region_of_layer, plan.placed_regions, plan.c_space_radius_mm,
+                                                        process.rules.interleave);
+  const std::size_t n = seq.order.size();
+  std::vector<std::uint32_t> position(n);
+  for (std::size_t k = 0; k < n; ++k) position[seq.order[k]] = static_cast<std::uint32_t>(k);
+  std::vector<slicing::Layer> layers(n);
+  std::vector<toolpath::LayerToolpaths> paths(n);
+  std::vector<std::uint32_t> regions(n);
+  plan.order.assign(n, {});
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t i = seq.order[k];
+    const auto index = static_cast<std::uint32_t>(k);
+    layers[k] = std::move(plan.layers.layers[i]);
+    layers[k].index = index;
+    paths[k] = std::move(plan.toolpaths[i]);
+    paths[k].layer = index;
+    for (toolpath::Path& path : paths[k].paths) path.layer = index;
+    regions[k] = plan.region_of_layer[i];
+    plan.order[k] = seq.records[i];
+    for (std::uint32_t& j : plan.order[k].interferes_with) j = position[j];
+  }
+  plan.layers.layers = std::move(layers);
+  plan.toolpaths = std::move(paths);
+  plan.region_of_layer = std::move(regions);
+}
+
+// The program: each layer approached along its first tool axis, its paths in order, a retract
+// along the last; between layers and regions the travel of clearance.h (straight where clear).
+void make_program(Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanOptions& options,
+                  const verify::DepositCheck& deposit) {
+  const double deposit_feed = process.deposit_feed_mm_s, travel_feed = process.travel_feed_mm_s;
+  std::uint32_t region_id = 0;
+  // The sphere the tool crosses where nothing shorter is clear: around the placed part, with room for the retract.
+  core::Box3 placed_box;
+  for (const PlanRegion& r : plan.placed_regions) {
+    for (const Vec3& v : r.mesh.vertices) placed_box.add(v);
+  }
+  const Vec3 sphere_centre = (placed_box.min + placed_box.max) * 0.5;
+  double sphere_radius = 0.0;
+  for (const PlanRegion& r : plan.placed_regions) {
+    for (const Vec3& v : r.mesh.vertices) sphere_radius = std::max(sphere_radius, core::norm(v - sphere_centre));
+  }
+  sphere_radius += options.retract_mm * (1.0 + kTransitMarginShare);
+  const double reach = detail::reach_rad(machine), margin = detail::kDepositMarginBeads * process.bead_width_mm;
+  auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
+    post::ProgramPoint p;
+    p.tip_part_mm = tip;
+    p.tool_axis_part = axis;
+    p.feed_mm_s = on ? deposit_feed : travel_feed;
+    p.process_on = on;
+    p.layer = layer;
+    p.region = region_id;
+    p.comment_if_new_block = std::move(comment);
+    plan.program.push_back(std::move(p));
+  };
+  std::size_t flat = 0;  // the path points so far (planned_points' index)
+  for (const toolpath::LayerToolpaths& lt : plan.toolpaths) {
+    region_id = plan.region_of_layer[lt.layer];
+    plan.deposit_length_mm += lt.deposit_length_mm;
+    plan.travel_length_mm += lt.travel_length_mm;
+    plan.thin_regions += lt.thin.size();
+    for (const auto& thin : lt.thin) plan.thin_area_mm2 += thin.area_mm2;
+    bool first_in_layer = true;
+    for (const toolpath::Path& path : lt.paths) {
+      if (path.points.empty()) continue;
+      const char* kind = path.kind == toolpath::PathKind::kPerimeter ? "perimeter" : (path.kind == toolpath::PathKind::kFill ? "fill" : "travel");
+      // The G-code writer prefixes "layer N region R" to a new block's comment.
+      const std::string comment = path.kind == toolpath::PathKind::kPerimeter ? fmt::format("perimeter {}", path.perimeter_index) : kind;
+      if (first_in_layer) {
+        const toolpath::PathPoint& p0 = path.points.front();
+        const Vec3 approach = p0.position_mm + core::normalized(p0.tool_axis) * options.retract_mm;
+        if (!plan.program.empty()) {
+          const post::ProgramPoint last = plan.program.back();
+          const auto via = detail::clear_travel(plan.build_model, deposit, flat, options.head_clearance_mm, margin, last.tip_part_mm,
+                                                last.tool_axis_part, approach, p0.tool_axis, sphere_centre, sphere_radius);
+          plan.travel_detours += via.empty() ? 0 : 1;
+          bool first = true;
+          for (TransitPoint t : via) {
+            // Below the part's middle the sphere's outward axis points the head at the plate:
+            // turned up until it clears, and lifted above the plate where no turn does.
+            if (!detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, 0.0, t.tip, t.axis, t.axis)) {
+              t.axis = {0, 0, 1};
+              t.tip.z = std::max(t.tip.z, options.head_clearance_mm);
+            }
+            push(t.tip, t.axis, false, lt.layer, first ? "transit" : "");
+            first = false;
+          }
+        }
+        push(approach, p0.tool_axis, false, lt.layer, "approach");
+        first_in_layer = false;
+      }
+      for (std::size_t i = 0; i < path.points.size(); ++i) {
+        const toolpath::PathPoint& p = path.points[i];
+        push(p.position_mm, p.tool_axis, p.deposit, lt.layer, i == 0 ? comment : std::string());
+      }
+      flat += path.points.size();
+    }
+    if (!plan.program.empty() && !first_in_layer) {
+      const post::ProgramPoint last = plan.program.back();
+      push(last.tip_part_mm + core::normalized(last.tool_axis_part) * options.retract_mm, last.tool_axis_part, false, lt.layer,
+           "retract");
+    }
+  }
+}
+
+// Counts the program's reorientations, each with its rule: a turn before a layer's first bead
+// reorients for the layer (for its region when the layer before was another region's); after it,
+// the tilt changes along the layer. Also the largest tilt while depositing.
+void count_reorientations(Plan& plan) {
+  std::uint32_t layer_region = plan.program.front().region, before_region = layer_region;
+  bool deposited = false;
+  for (std::size_t i = 0; i < plan.program.size(); ++i) {
+    const post::ProgramPoint& p = plan.program[i];
+    if (i > 0 && p.layer != plan.program[i - 1].layer) before_region = layer_region, layer_region = p.region, deposited = false;
+    if (p.process_on) plan.max_tilt_deg = std::max(plan.max_tilt_deg, angle_deg(p.tool_axis_part, plan.layers.layers[p.layer].frame.d));
+    const double turn = i > 0 ? angle_deg(p.tool_axis_part, plan.program[i - 1].tool_axis_part) : 0.0;
+    if (turn > kReorientationDeg) {
+      ++plan.reorientations;
+      const char* rule = deposited ? kReorientTilt : (before_region != layer_region ? kReorientRegion : kReorientLayer);
+      plan.reorientation_list.push_back({i, p.layer, turn, rule});
+    }
+    deposited = deposited || p.process_on;
+  }
 }
 
 }  // namespace
@@ -190,6 +322,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
     // The middle of the footprint, on the table, in the part's frame.
     const Vec3 on_table{(box.min.x + box.max.x) * 0.5, (box.min.y + box.max.y) * 0.5, lowest};
     whole.base_point = plan.placement.unrotate(on_table);
+    whole.volume_mm3 = std::abs(mesh::signed_volume(part.mesh));
     regions.push_back(std::move(whole));
   }
   for (PlanRegion& r : regions) {
@@ -255,93 +388,24 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
     }
   }
   if (plan.layers.layers.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: the part has no layers");
-  if (auto s = first_deposit_on_plate(plan, process); !s) return s.error();
   auto t0 = Clock::now();
-
-  // Program: approach from above, the layer's paths in order, retract along the tool axis.
-  const double deposit_feed = process.deposit_feed_mm_s, travel_feed = process.travel_feed_mm_s;
-  std::uint32_t region_id = 0;
-  // The sphere the tool crosses between regions: around the placed part, with room for the retract.
-  core::Box3 placed_box;
-  for (const PlanRegion& r : plan.placed_regions) {
-    for (const Vec3& v : r.mesh.vertices) placed_box.add(v);
-  }
-  const Vec3 sphere_centre = (placed_box.min + placed_box.max) * 0.5;
-  double sphere_radius = 0.0;
-  for (const PlanRegion& r : plan.placed_regions) {
-    for (const Vec3& v : r.mesh.vertices) sphere_radius = std::max(sphere_radius, core::norm(v - sphere_centre));
-  }
-  sphere_radius += options.retract_mm * (1.0 + kTransitMarginShare);
-  std::optional<std::uint32_t> previous_region;
-  const double reach = detail::reach_rad(machine);
-  auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
-    post::ProgramPoint p;
-    p.tip_part_mm = tip;
-    p.tool_axis_part = axis;
-    p.feed_mm_s = on ? deposit_feed : travel_feed;
-    p.process_on = on;
-    p.layer = layer;
-    p.region = region_id;
-    p.comment_if_new_block = std::move(comment);
-    plan.program.push_back(std::move(p));
-  };
-  for (const toolpath::LayerToolpaths& lt : plan.toolpaths) {
-    region_id = plan.region_of_layer[lt.layer];
-    plan.deposit_length_mm += lt.deposit_length_mm;
-    plan.travel_length_mm += lt.travel_length_mm;
-    plan.thin_regions += lt.thin.size();
-    for (const auto& thin : lt.thin) plan.thin_area_mm2 += thin.area_mm2;
-    bool first_in_layer = true;
-    for (const toolpath::Path& path : lt.paths) {
-      if (path.points.empty()) continue;
-      const char* kind = path.kind == toolpath::PathKind::kPerimeter ? "perimeter" : (path.kind == toolpath::PathKind::kFill ? "fill" : "travel");
-      // The G-code writer prefixes "layer N region R" to a new block's comment.
-      const std::string comment = path.kind == toolpath::PathKind::kPerimeter ? fmt::format("perimeter {}", path.perimeter_index) : kind;
-      if (first_in_layer) {
-        const toolpath::PathPoint& p0 = path.points.front();
-        const Vec3 approach = p0.position_mm + core::normalized(p0.tool_axis) * options.retract_mm;
-        if (previous_region && *previous_region != region_id && !plan.program.empty()) {
-          // A new region, built along another direction: cross over the part (transit.h).
-          const post::ProgramPoint last = plan.program.back();
-          bool first = true;
-          for (TransitPoint t : transit(last.tip_part_mm, last.tool_axis_part, approach, p0.tool_axis, sphere_centre, sphere_radius)) {
-            // Below the part's middle the sphere's outward axis points the head at the plate:
-            // turned up until it clears, and lifted above the plate where no turn does.
-            if (!detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, 0.0, t.tip, t.axis, t.axis)) {
-              t.axis = {0, 0, 1};
-              t.tip.z = std::max(t.tip.z, options.head_clearance_mm);
-            }
-            push(t.tip, t.axis, false, lt.layer, first ? "transit" : "");
-            first = false;
-          }
-        }
-        push(approach, p0.tool_axis, false, lt.layer, "approach");
-        first_in_layer = false;
-        previous_region = region_id;
-      }
-      for (std::size_t i = 0; i < path.points.size(); ++i) {
-        const toolpath::PathPoint& p = path.points[i];
-        push(p.position_mm, p.tool_axis, p.deposit, lt.layer, i == 0 ? comment : std::string());
-      }
-    }
-    if (!plan.program.empty() && !first_in_layer) {
-      const post::ProgramPoint last = plan.program.back();
-      push(last.tip_part_mm + core::normalized(last.tool_axis_part) * options.retract_mm, last.tool_axis_part, false, lt.layer,
-           "retract");
-    }
-  }
-  if (plan.program.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: every layer is thinner than a bead");
-  plan.program = detail::insert_c_unwinds(plan.program, plan.layers.layers, machine);
-  for (std::size_t i = 0; i < plan.program.size(); ++i) {
-    const post::ProgramPoint& p = plan.program[i];
-    if (p.process_on) plan.max_tilt_deg = std::max(plan.max_tilt_deg, angle_deg(p.tool_axis_part, plan.layers.layers[p.layer].frame.d));
-    if (i > 0 && angle_deg(p.tool_axis_part, plan.program[i - 1].tool_axis_part) > kReorientationDeg) ++plan.reorientations;
-  }
-
-  plan.times.program_s = since(t0);
+  order_layers(plan, machine, process);
+  // Tilts eased where the head would strike what is built before them, in build order; the support
+  // check then judges the torch as it will be.
+  const verify::DepositCheck deposit(plan.build_model, detail::planned_points(plan), process.bead_width_mm);
+  detail::ease_tilts(plan, machine, options, deposit, process.bead_width_mm);
+  plan.times.sequence_s = since(t0);
   t0 = Clock::now();
   detail::check_support(plan, process);
   plan.times.support_s = since(t0);
+  if (auto s = first_deposit_on_plate(plan, process); !s) return s.error();
+  t0 = Clock::now();
+
+  make_program(plan, machine, process, options, deposit);
+  if (plan.program.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: every layer is thinner than a bead");
+  plan.program = detail::insert_c_unwinds(plan.program, plan.layers.layers, machine);
+  count_reorientations(plan);
+  plan.times.program_s = since(t0);
   return plan;
 }
 

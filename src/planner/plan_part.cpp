@@ -127,6 +127,10 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
     pr.parent = r.parent;
     pr.base_point = r.base_point;
     pr.support_free = r.support_free;
+    pr.rule = r.rule;
+    pr.rests_on = r.rests_on;
+    pr.volume_mm3 = r.volume_mm3;
+    pr.overhang_mm2 = r.unsupported_area_mm2;
     regions.push_back(std::move(pr));
     if (!r.support_free) {
       c.warnings.push_back(fmt::format("region {} is not support-free along its direction ({:.1f} mm2 overhang)", r.id,

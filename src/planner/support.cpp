@@ -117,6 +117,7 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
   for (std::size_t i = 0; i < plan.placed_regions.size(); ++i) index_of[plan.placed_regions[i].id] = i;
   BuiltBefore built(plan.placed_regions);
   core::Progress progress("support", ls.size());
+  std::map<std::uint32_t, std::size_t> previous_of_region;  // region id -> its latest layer so far
   for (std::size_t k = 0; k < ls.size(); ++k) {
     progress.update(k);
     LayerReport& r = plan.layer_reports[k];
@@ -130,11 +131,23 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
     r.paths = static_cast<std::uint32_t>(lt.paths.size());
     for (const auto& path : lt.paths) {
       for (const auto& p : path.points) {
-        if (p.deposit) r.max_tilt_deg = std::max(r.max_tilt_deg, angle_deg(p.tool_axis, layer_d));
+        if (!p.deposit) continue;
+        const double tilt = angle_deg(p.tool_axis, layer_d);
+        r.max_tilt_deg = std::max(r.max_tilt_deg, tilt);
+        if (tilt > kTiltedDeg) ++r.tilted_points;
       }
     }
+    r.turned_points = lt.axes_turned;
+    r.eased_points = lt.axes_eased;
+    const bool on_plate = layer_d.z > 1.0 - kUprightCos && std::abs(ls[k].height_mm - ls[k].below_mm) <= kOnTableMm;
+    r.tilt_rule = on_plate ? kTiltOnPlate
+                           : (lt.axes_eased > 0 ? kTiltEased : (lt.axes_turned > 0 ? kTiltClearance : (r.tilted_points > 0 ? kTiltOverhang : kTiltNormal)));
     const std::size_t region_index = index_of.count(r.region) ? index_of[r.region] : 0;
-    const bool first = k == 0 || plan.region_of_layer[k - 1] != r.region;
+    // The layer below is the region's previous layer (brothers' layers may come between).
+    const auto seen = previous_of_region.find(r.region);
+    const bool first = seen == previous_of_region.end();
+    const std::size_t below_k = first ? 0 : seen->second;
+    previous_of_region[r.region] = k;
     // The first region's first layer stands on the table, and so does any region's first layer
     // built upright from the table's top (Z = 0 after placement).
     const bool on_table = layer_d.z > 1.0 - kUprightCos && ls[k].height_mm - ls[k].below_mm <= kOnTableMm;
@@ -143,7 +156,7 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
     const double max_step = process.max_step_bead_share * bead;
     double t = r.thickness_mm;
     std::vector<geom2d::Polygon> below;
-    if (!first) t = ls[k].height_mm - ls[k - 1].height_mm, below = ls[k - 1].polygons;
+    if (!first) t = ls[k].height_mm - ls[below_k].height_mm, below = ls[below_k].polygons;
     std::vector<geom2d::Polygon> pieces;
     double area = first ? r.area_mm2 : unsupported_area(below, t, ls[k], lt, alpha, bead, max_step, pieces);
     if (area >= kUnsupportedNoiseMm2 && region_index > 0) {

@@ -387,6 +387,21 @@ class ProgramWriter {
     const ProgramPoint& pt = points_[i];
     auto poses = machine::subdivide(m_, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev_, tol_);
     if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where.str(), end_stop_or(m_, prev_, pt, poses.error().message)));
+    if (pt.process_on && stalls(m_, prev_, poses.value(), pt.feed_mm_s) && singular(prev_) && !poses.value().empty()) {
+      // Leaving the pole, C swings to the move's own: turn C alone in place with the process off
+      // (the tool stays along C, so the tip and the axis hold), then tilt along the bead as planned.
+      auto turn = machine::turn_c_in_place(m_, prev_, poses.value().back().c_deg, tol_);
+      if (turn && !turn.value().empty()) {
+        const MachinePose at_pole = turn.value().back();
+        auto along = machine::subdivide(m_, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, at_pole, tol_);
+        if (along && !stalls(m_, at_pole, along.value(), pt.feed_mm_s)) {
+          ++stall_splits_;
+          switch_process(false);
+          if (auto st = emit(turn.value(), o_.rapid_travel, p_.travel_feed_mm_s, where); !st) return st;
+          poses = std::move(along);
+        }
+      }
+    }
     if (pt.process_on && stalls(m_, prev_, poses.value(), pt.feed_mm_s)) {
       // The rotary axes cannot keep up with the tip here: turn the tool in place with the process
       // off, then lay the bead with the new axis (verify/verify.h, stall).

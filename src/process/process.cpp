@@ -28,7 +28,8 @@ constexpr std::string_view kDefaultProcess = R"({
   "max_step_bead_share": 0.5,
   "adaptive_layers": true,
   "cusp_mm": 0.3,
-  "substrate": {"thickness_mm": 10, "margin_mm": 10, "size_x_mm": 0, "size_y_mm": 0}
+  "substrate": {"thickness_mm": 10, "margin_mm": 10, "size_x_mm": 0, "size_y_mm": 0},
+  "rules": {"interleave": true, "c_space_margin_mm": 0}
 }
 )";
 
@@ -50,7 +51,7 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   core::detail::ConfigReader r(source);
   if (!r.check_object(root, "", {"name", "bead_width_mm", "layer_mm", "layer_min_mm", "layer_max_mm",
                                  "self_supporting_deg", "deposit_feed_mm_s", "travel_feed_mm_s", "process_on",
-                                 "process_off", "dwell_on_s", "max_step_bead_share", "adaptive_layers", "cusp_mm", "substrate"})) {
+                                 "process_off", "dwell_on_s", "max_step_bead_share", "adaptive_layers", "cusp_mm", "substrate", "rules"})) {
     return r.error();
   }
   ProcessConfig p;
@@ -76,7 +77,14 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
     p.substrate.size_x_mm = r.number(s, "substrate", "size_x_mm", 0.0);
     p.substrate.size_y_mm = r.number(s, "substrate", "size_y_mm", 0.0);
   }
+  if (r.has(root, "rules")) {
+    const json& s = root.at("rules");
+    if (!r.check_object(s, "rules", {"interleave", "c_space_margin_mm"})) return r.error();
+    p.rules.interleave = r.boolean(s, "rules", "interleave", p.rules.interleave);
+    p.rules.c_space_margin_mm = r.number(s, "rules", "c_space_margin_mm", p.rules.c_space_margin_mm);
+  }
   if (r.failed()) return r.error();
+  if (p.rules.c_space_margin_mm < 0.0) r.fail("'rules.c_space_margin_mm' must be >= 0");
   if (!(p.max_step_bead_share > 0.0 && p.max_step_bead_share <= 1.0)) {
     r.fail(fmt::format("'max_step_bead_share' ({}) must be in (0, 1]: a bead must rest on the one below", p.max_step_bead_share));
   }

@@ -44,6 +44,8 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
   j["max_tip_deviation_mm"] = sim.max_tip_deviation_mm;
   j["max_axis_deviation_deg"] = sim.max_axis_deviation_deg;
   j["axes_turned"] = plan.axes_turned;
+  j["tilts_eased"] = plan.tilts_eased;
+  j["travel_detours"] = plan.travel_detours;
   if (check != nullptr) {
     // The program read back through forward kinematics against the build model (docs/plan.md).
     j["build_check"] = {{"samples", check->samples},

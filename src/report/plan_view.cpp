@@ -53,6 +53,24 @@ void fill_rotary_ranges(const machine::MachineConfig& machine, const std::vector
 }
 
 // JSON writing: numbers with fixed decimals, so the same plan gives the same bytes.
+std::string build_model_json(const machine::BuildModel& m) {
+  nlohmann::ordered_json j;
+  j["nozzle"] = {{"tip_half_angle_deg", m.nozzle.tip_half_angle_deg},
+                 {"cone_height_mm", m.nozzle.cone_height_mm},
+                 {"cylinder_radius_mm", m.nozzle.cylinder_radius_mm},
+                 {"cylinder_height_mm", m.nozzle.cylinder_height_mm}};
+  nlohmann::ordered_json boxes = nlohmann::ordered_json::array();
+  for (const machine::HeadBox& b : m.head_boxes) {
+    boxes.push_back({{"min_mm", {b.min_mm[0], b.min_mm[1], b.min_mm[2]}}, {"max_mm", {b.max_mm[0], b.max_mm[1], b.max_mm[2]}}});
+  }
+  j["head_boxes"] = std::move(boxes);
+  j["table_radius_mm"] = m.table_radius_mm;
+  j["table_centre_mm"] = {m.table_centre_mm.x, m.table_centre_mm.y, m.table_centre_mm.z};
+  const machine::SubstratePlate& p = m.substrate;
+  j["substrate"] = {{"x_mm", {p.x_min_mm, p.x_max_mm}}, {"y_mm", {p.y_min_mm, p.y_max_mm}}, {"top_z_mm", p.top_z_mm}, {"thickness_mm", p.thickness_mm}};
+  return j.dump();
+}
+
 void put_vec(std::string& out, Vec3 v, int decimals = 6) {
   fmt::format_to(std::back_inserter(out), "[{:.{}f},{:.{}f},{:.{}f}]", v.x, decimals, v.y, decimals, v.z, decimals);
 }
@@ -123,10 +141,15 @@ PlanView make_plan_view(const planner::Plan& plan, const machine::MachineConfig&
     v.unsupported_area_mm2 = r.unsupported_area_mm2;
     v.max_tilt_deg = r.max_tilt_deg;
     v.paths = r.paths;
+    if (k < plan.order.size()) v.order = plan.order[k];
+    v.tilt_rule = r.tilt_rule, v.tilted_points = r.tilted_points, v.turned_points = r.turned_points, v.eased_points = r.eased_points;
     add_rings(l.polygons, l.frame, v.contours);
     add_rings(r.unsupported, l.frame, v.unsupported);
   }
   view.program = plan.program;
+  view.rules = planner::rule_base(machine, process, plan);
+  view.reorientations = plan.reorientation_list;
+  view.build_model = plan.build_model;
   fill_rotary_ranges(machine, view.program, view.layers);
   return view;
 }
@@ -154,8 +177,8 @@ std::string plan_view_json(const PlanView& view) {
                    r.parent ? fmt::to_string(*r.parent) : std::string("null"));
     put_vec(out, core::normalized(r.direction), 9);
     out += ",\"base_point\":", put_vec(out, r.base_point);
-    fmt::format_to(std::back_inserter(out), ",\"support_free\":{},\"volume_mm3\":{:.3f},\"vertices\":", r.support_free,
-                   mesh::signed_volume(r.mesh));
+    fmt::format_to(std::back_inserter(out), ",\"support_free\":{},\"volume_mm3\":{:.3f},\"overhang_mm2\":{:.3f},\"rule\":{},\"rests_on\":{},\"vertices\":",
+                   r.support_free, mesh::signed_volume(r.mesh), r.overhang_mm2, nlohmann::json(r.rule).dump(), nlohmann::json(r.rests_on).dump());
     put_flat(out, r.mesh.vertices);
     out += ",\"triangles\":[";
     for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
@@ -190,9 +213,15 @@ std::string plan_view_json(const PlanView& view) {
     out += ",\"v\":", put_vec(out, l.v, 9);
     fmt::format_to(std::back_inserter(out),
                    ",\"thickness_mm\":{:.6f},\"area_mm2\":{:.6f},\"unsupported_area_mm2\":{:.6f},\"max_tilt_deg\":{:.6f},\"paths\":{},"
-                   "\"tilt_deg\":[{:.6f},{:.6f}],\"c_deg\":[{:.6f},{:.6f}],\"contours\":",
+                   "\"tilt_deg\":[{:.6f},{:.6f}],\"c_deg\":[{:.6f},{:.6f}]",
                    l.thickness_mm, l.area_mm2, l.unsupported_area_mm2, l.max_tilt_deg, l.paths, l.tilt_deg[0], l.tilt_deg[1],
                    l.c_deg[0], l.c_deg[1]);
+    fmt::format_to(std::back_inserter(out), ",\"order\":{{\"region_layer\":{},\"level\":{},\"rule\":{},\"interferes_with\":{},\"interferences\":{}}}",
+                   l.order.region_layer, l.order.level, nlohmann::json(l.order.rule).dump(), nlohmann::json(l.order.interferes_with).dump(),
+                   l.order.interferences);
+    fmt::format_to(std::back_inserter(out), ",\"tilt\":{{\"rule\":{},\"tilted_points\":{},\"turned_points\":{},\"eased_points\":{}}}",
+                   nlohmann::json(l.tilt_rule).dump(), l.tilted_points, l.turned_points, l.eased_points);
+    out += ",\"contours\":";
     put_rings(out, l.contours);
     out += ",\"unsupported\":";
     put_rings(out, l.unsupported);
@@ -211,7 +240,23 @@ std::string plan_view_json(const PlanView& view) {
     put_vec(out, view.collisions[i].position);
     out += ",\"what\":" + nlohmann::json(view.collisions[i].what).dump() + "}";
   }
-  out += "]}\n";
+  out += "],\n\"rules\":[";
+  for (std::size_t i = 0; i < view.rules.size(); ++i) {
+    const planner::Rule& r = view.rules[i];
+    nlohmann::ordered_json params = nlohmann::ordered_json::object();
+    for (const auto& [key, value] : r.parameters) params[key] = value;
+    fmt::format_to(std::back_inserter(out), "{}\n{{\"id\":{},\"says\":{},\"parameters\":{}}}", i ? "," : "", nlohmann::json(r.id).dump(),
+                   nlohmann::json(r.says).dump(), params.dump());
+  }
+  out += "],\n\"reorientations\":[";
+  for (std::size_t i = 0; i < view.reorientations.size(); ++i) {
+    const planner::Reorientation& r = view.reorientations[i];
+    fmt::format_to(std::back_inserter(out), "{}\n{{\"point\":{},\"layer\":{},\"angle_deg\":{:.3f},\"rule\":{}}}", i ? "," : "", r.point, r.layer,
+                   r.angle_deg, nlohmann::json(r.rule).dump());
+  }
+  out += "],\n\"head\":";
+  out += build_model_json(view.build_model);
+  out += "}\n";
   return out;
 }
 

@@ -53,6 +53,36 @@ std::array<double, 2> get_range(const Json& j) {
   return {j[0].get<double>(), j[1].get<double>()};
 }
 
+double get_finite(const Json& j) {
+  const double x = j.get<double>();
+  if (!std::isfinite(x)) throw std::runtime_error("a number is not finite");
+  return x;
+}
+
+machine::BuildModel get_build_model(const Json& j) {
+  machine::BuildModel m;
+  const Json& n = j.at("nozzle");
+  m.nozzle.tip_half_angle_deg = get_finite(n.at("tip_half_angle_deg"));
+  m.nozzle.cone_height_mm = get_finite(n.at("cone_height_mm"));
+  m.nozzle.cylinder_radius_mm = get_finite(n.at("cylinder_radius_mm"));
+  m.nozzle.cylinder_height_mm = get_finite(n.at("cylinder_height_mm"));
+  for (const Json& b : j.at("head_boxes")) {
+    machine::HeadBox box;
+    const Vec3 lo = get_vec(b.at("min_mm")), hi = get_vec(b.at("max_mm"));
+    box.min_mm[0] = lo.x, box.min_mm[1] = lo.y, box.min_mm[2] = lo.z;
+    box.max_mm[0] = hi.x, box.max_mm[1] = hi.y, box.max_mm[2] = hi.z;
+    m.head_boxes.push_back(box);
+  }
+  m.table_radius_mm = get_finite(j.at("table_radius_mm"));
+  m.table_centre_mm = get_vec(j.at("table_centre_mm"));
+  const Json& p = j.at("substrate");
+  const auto x = get_range(p.at("x_mm")), y = get_range(p.at("y_mm"));
+  m.substrate.x_min_mm = x[0], m.substrate.x_max_mm = x[1], m.substrate.y_min_mm = y[0], m.substrate.y_max_mm = y[1];
+  m.substrate.top_z_mm = get_finite(p.at("top_z_mm"));
+  m.substrate.thickness_mm = get_finite(p.at("thickness_mm"));
+  return m;
+}
+
 std::vector<post::ProgramPoint> program_rows(const Json& rows) {
   std::vector<post::ProgramPoint> program;
   if (!rows.is_array()) throw std::runtime_error("\"program\" is not an array");
@@ -109,6 +139,12 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       region.direction = get_vec(r.at("build_direction"));
       region.base_point = get_vec(r.at("base_point"));
       region.support_free = r.at("support_free").get<bool>();
+      if (r.contains("rule")) {  // plans written before the rule base have none
+        region.rule = r.at("rule").get<std::string>();
+        region.rests_on = r.at("rests_on").get<std::vector<std::uint32_t>>();
+        region.volume_mm3 = get_finite(r.at("volume_mm3"));
+        region.overhang_mm2 = get_finite(r.at("overhang_mm2"));
+      }
       region.mesh.vertices = get_flat(r.at("vertices"));
       const Json& tris = r.at("triangles");
       if (!tris.is_array() || tris.size() % 3 != 0) throw std::runtime_error("a triangle list is not a multiple of 3 indices");
@@ -149,6 +185,20 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       layer.c_deg = get_range(l.at("c_deg"));
       layer.contours = get_rings(l.at("contours"));
       layer.unsupported = get_rings(l.at("unsupported"));
+      layer.order.region = layer.region;
+      if (l.contains("order")) {  // plans written before the layer order was recorded have none
+        const Json& o = l.at("order");
+        layer.order.region_layer = get_u32(o.at("region_layer"));
+        layer.order.level = get_u32(o.at("level"));
+        layer.order.rule = o.at("rule").get<std::string>();
+        for (const Json& i : o.at("interferes_with")) layer.order.interferes_with.push_back(get_u32(i));
+        layer.order.interferences = get_u32(o.at("interferences"));
+        const Json& t = l.at("tilt");
+        layer.tilt_rule = t.at("rule").get<std::string>();
+        layer.tilted_points = get_u32(t.at("tilted_points"));
+        layer.turned_points = get_u32(t.at("turned_points"));
+        layer.eased_points = get_u32(t.at("eased_points"));
+      }
       for (double x : {layer.thickness_mm, layer.area_mm2, layer.unsupported_area_mm2, layer.max_tilt_deg, layer.tilt_deg[0],
                        layer.tilt_deg[1], layer.c_deg[0], layer.c_deg[1]}) {
         if (!std::isfinite(x)) throw std::runtime_error(fmt::format("layer {}: a number is not finite", layer.index));
@@ -161,6 +211,28 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
     }
     if (doc.contains("collisions")) {  // plans written before collisions were checked have none
       for (const Json& c : doc.at("collisions")) view.collisions.push_back({get_vec(c.at("position")), c.at("what").get<std::string>()});
+    }
+    for (const ViewLayer& l : view.layers) {
+      for (const std::uint32_t i : l.order.interferes_with) {
+        if (i >= view.layers.size()) throw std::runtime_error(fmt::format("layer {}: an interfering layer is out of range", l.index));
+      }
+    }
+    if (doc.contains("rules")) {
+      for (const Json& r : doc.at("rules")) {
+        planner::Rule rule{r.at("id").get<std::string>(), r.at("says").get<std::string>(), {}};
+        for (const auto& [key, value] : r.at("parameters").items()) rule.parameters.emplace_back(key, get_finite(value));
+        view.rules.push_back(std::move(rule));
+      }
+      for (const Json& r : doc.at("reorientations")) {
+        planner::Reorientation o;
+        o.point = r.at("point").get<std::uint64_t>();
+        o.layer = get_u32(r.at("layer"));
+        o.angle_deg = get_finite(r.at("angle_deg"));
+        o.rule = r.at("rule").get<std::string>();
+        if (o.point >= view.program.size() || o.layer >= view.layers.size()) throw std::runtime_error("a reorientation is out of range");
+        view.reorientations.push_back(std::move(o));
+      }
+      view.build_model = get_build_model(doc.at("head"));
     }
   } catch (const std::exception& e) {
     return core::make_error(core::ErrorCode::kInvalidInput, fmt::format("{}: not a polyaxis plan: {}", source, e.what()));

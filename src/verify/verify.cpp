@@ -31,6 +31,8 @@ constexpr double kQueryBeads = 1.5;
 constexpr double kQueryDeg = 1.5;
 // The deposit is kept for the head check as samples at most this far apart (share of the bead).
 constexpr double kMaterialBeads = 0.5;
+// A check that comes within its margin only is done again this many times finer along the motion.
+constexpr int kRefinePieces = 16;
 
 MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
   return {a.x_mm + (b.x_mm - a.x_mm) * u, a.y_mm + (b.y_mm - a.y_mm) * u, a.z_mm + (b.z_mm - a.z_mm) * u,
@@ -161,6 +163,40 @@ struct HeadQuery {
 
 Vec3 vec(const std::array<float, 3>& a) { return {a[0], a[1], a[2]}; }
 
+// A head pose between samples: the tip straight, the axis along the chord (the samples are at
+// most a quarter bead and 1° apart, so the chord is the motion within a few micrometres).
+HeadQuery between(const HeadQuery& a, const HeadQuery& b, double u) {
+  HeadQuery q = b;
+  for (int k = 0; k < 3; ++k) {
+    q.tip[k] = static_cast<float>(a.tip[k] + (b.tip[k] - a.tip[k]) * u);
+    q.axis[k] = static_cast<float>(a.axis[k] + (b.axis[k] - a.axis[k]) * u);
+  }
+  const Vec3 axis = core::normalized(vec(q.axis));
+  q.axis = {static_cast<float>(axis.x), static_cast<float>(axis.y), static_cast<float>(axis.z)};
+  q.gap_mm = static_cast<float>(b.gap_mm / kRefinePieces), q.gap_rad = static_cast<float>(b.gap_rad / kRefinePieces);
+  return q;
+}
+
+// Sample I came within its margin of the material but did not reach it: the motion from sample
+// I − 1 to I + 1 is checked at kRefinePieces poses per step, each with the margin of its own
+// (kRefinePieces times smaller) gaps. The deepest hit, none when the finer poses all clear.
+std::optional<detail::MaterialHit> refine(const std::vector<HeadQuery>& samples, std::size_t i, const detail::MaterialIndex& index,
+                                          const detail::HeadProfile& head, double radius, double ignore) {
+  std::optional<detail::MaterialHit> best;
+  const HeadQuery& at = samples[i];
+  for (std::size_t j = i > 0 ? i : i + 1; j <= i + 1 && j < samples.size(); ++j) {
+    const HeadQuery& a = samples[j - 1];
+    const HeadQuery& b = samples[j];
+    if (b.gap_mm == 0.0f && b.gap_rad == 0.0f && j != i) continue;
+    for (int k = 0; k <= kRefinePieces; ++k) {
+      const HeadQuery q = between(a, b, static_cast<double>(k) / kRefinePieces);
+      auto hit = index.deepest(head, vec(q.tip), vec(q.axis), at.before, radius, ignore, 0.5 * q.gap_mm, 0.5 * q.gap_rad);
+      if (hit && (!best || hit->depth_mm > best->depth_mm)) best = hit;
+    }
+  }
+  return best;
+}
+
 // Checks the samples against the material (in parallel) in two passes: every COARSE sample (at
 // most kQueryBeads / kQueryDeg apart) with the margin of the gaps to its coarse neighbours, then,
 // around those that come within it, every sample with the margin of its own gaps. Adds the
@@ -197,6 +233,8 @@ void check_material(const std::vector<HeadQuery>& samples, const std::vector<std
   tbb::parallel_for(std::size_t{0}, dense.size(), [&](std::size_t k) {
     const std::size_t i = dense[k];
     hits[k] = check(i, i > 0 ? i - 1 : i, i + 1 < samples.size() ? i + 1 : i);
+    // Within the margin only: the motion to the neighbours, finer, with its own smaller margin.
+    if (hits[k] && hits[k]->depth_mm < 0.0) hits[k] = refine(samples, i, index, head, radius, ignore);
   });
   out.material_checks += dense.size();
   for (std::size_t k = 0; k < dense.size(); ++k) {

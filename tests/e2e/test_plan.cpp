@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <map>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -221,6 +222,57 @@ TEST(PlanDecomposed, FiveWallsBuildRadiallyAfterTheCylinder) {
   int radial = 0;
   for (const auto& r : d.plan["regions"]) radial += std::fabs(r["build_direction"][2].get<double>()) < 1e-6;
   EXPECT_EQ(radial, 5);
+
+  // Dwivedi Table 1's order: the cylinder, then the walls' first layers one after the other (their
+  // C-space contours overlap: one level), then their second layers …, each wall to its end where
+  // its layers interfere with no other's.
+  const auto& layers = d.plan["layers"];
+  std::size_t k = 0;
+  while (k < layers.size() && layers[k]["region"].get<int>() == 0) ++k;
+  ASSERT_LT(k + 10, layers.size());
+  for (int level = 1; level <= 2; ++level) {
+    for (int wall = 1; wall <= 5; ++wall, ++k) {
+      EXPECT_EQ(layers[k]["region"].get<int>(), wall) << k;
+      EXPECT_EQ(layers[k]["order"]["region_layer"].get<int>(), level) << k;
+      EXPECT_EQ(layers[k]["order"]["level"].get<int>(), level) << k;
+      EXPECT_EQ(layers[k]["order"]["rule"].get<std::string>(), level == 1 ? "order.after-father" : "order.level") << k;
+    }
+  }
+  // `explain` says why, from plan.json alone.
+  const std::string plan_json = (dir / "plan.json").string();
+  const auto why = run_cli("explain '" + plan_json + "' --layer R2L2");
+  ASSERT_EQ(why.exit_code, 0) << why.err;
+  EXPECT_NE(why.out.find("order.level"), std::string::npos) << why.out;
+  EXPECT_NE(why.out.find("after R1L2, before R3L2"), std::string::npos) << why.out;
+  EXPECT_NE(why.out.find("interference level 2"), std::string::npos) << why.out;
+  const auto as_json = run_cli("explain '" + plan_json + "' --layer R2L2 --json");
+  ASSERT_EQ(as_json.exit_code, 0) << as_json.err;
+  const auto j = nlohmann::json::parse(as_json.out);
+  EXPECT_EQ(j["rule"]["id"], "order.level");
+  EXPECT_EQ(j["level"], 2);
+  EXPECT_GT(j["interferences"].get<int>(), 0);
+  const auto region = run_cli("explain '" + plan_json + "' --region 3 --json");
+  ASSERT_EQ(region.exit_code, 0) << region.err;
+  const auto rj = nlohmann::json::parse(region.out);
+  EXPECT_EQ(rj["rule"]["id"], "planar face");
+  EXPECT_EQ(rj["parent"], 0);
+  EXPECT_NEAR(rj["direction"][2].get<double>(), 0.0, 1e-6);
+  // A deposit point: its pose, the tilt rule and its clearance, which the verification agrees is
+  // not negative where it found no collision.
+  std::size_t point = 0;
+  for (std::size_t i = 0; i < d.plan["program"].size(); ++i) {
+    if (d.plan["program"][i][7] == 1 && d.plan["program"][i][9] == 3) point = i;
+  }
+  const auto at = run_cli("explain '" + plan_json + "' --point " + std::to_string(point) + " --json");
+  ASSERT_EQ(at.exit_code, 0) << at.err;
+  const auto pj = nlohmann::json::parse(at.out);
+  EXPECT_EQ(pj["region"], 3);
+  EXPECT_TRUE(pj["process_on"].get<bool>());
+  EXPECT_TRUE(pj["clearance_deposit_mm"].is_number());
+  EXPECT_GE(pj["clearance_fixture_mm"].get<double>(), 0.0);
+  EXPECT_EQ(run_cli("explain '" + plan_json + "' --layer R9L1").exit_code, 2);
+  EXPECT_EQ(run_cli("explain '" + plan_json + "' --point 99999999").exit_code, 2);
+  EXPECT_EQ(run_cli("explain '" + plan_json + "'").exit_code, 2);
 }
 
 TEST(PlanDecomposed, HingeIsTurnedOverSoNothingHangsUnderThePlate) {
@@ -328,11 +380,18 @@ TEST(PlanDecomposed, TwoBranchesBuildsEachRegionOnWhatIsBuilt) {
   EXPECT_EQ(d.report["regions"].get<int>(), static_cast<int>(d.plan["regions"].size()));
   EXPECT_GE(d.report["regions"].get<int>(), 4);
   EXPECT_LE(d.tip_deviation_mm, 0.01);
-  // Layers in build order, each region after those its base lies on.
-  int last_region = 0;
-  for (const auto& layer : d.plan["layers"]) {
-    EXPECT_GE(layer["region"].get<int>(), last_region);
-    last_region = layer["region"].get<int>();
+  // Layers in build order: each region's in layer order, its first after the last layer of every
+  // region its base lies on (brothers may interleave).
+  std::map<int, int> first, last, count;
+  for (std::size_t k = 0; k < d.plan["layers"].size(); ++k) {
+    const auto& layer = d.plan["layers"][k];
+    const int r = layer["region"].get<int>();
+    if (!first.count(r)) first[r] = static_cast<int>(k);
+    last[r] = static_cast<int>(k);
+    EXPECT_EQ(layer["order"]["region_layer"].get<int>(), ++count[r]) << k;
+  }
+  for (const auto& region : d.plan["regions"]) {
+    for (const auto& below : region["rests_on"]) EXPECT_GT(first[region["id"].get<int>()], last[below.get<int>()]) << region["id"];
   }
   // Each layer rests on the layer below it or on the regions built before (the arms' first layers
   // over the trunk's tilted top, the sideways pieces' over the trunk): from 90 mm² when only the

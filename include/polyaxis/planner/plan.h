@@ -38,6 +38,9 @@ struct PlanOptions {
 // direction: each piece of overhang is counted as supported when it lies within the layer below
 // grown by t·tan(α + θ), θ the largest tilt of the outer-contour points over that piece (within a
 // bead of it). With the torch along d everywhere this is the plain planar check.
+// The rule of a region that is the whole part, along one direction (--strategy single).
+inline constexpr const char* kRegionWhole = "whole part";
+
 // One region of the part, built along its own direction (analysis::decompose gives these).
 struct PlanRegion {
   std::uint32_t id = 0;
@@ -48,6 +51,13 @@ struct PlanRegion {
   std::optional<std::uint32_t> parent;
   Vec3 base_point;
   bool support_free = true;
+  // Why the region exists and why its direction (the rule base, plan.json): the decomposition's
+  // rule for its base (analysis::Region::rule, kRegionWhole for an undivided part), the regions it
+  // rests on, its volume and its overhang along its own direction as the decomposition found them.
+  std::string rule = kRegionWhole;
+  std::vector<std::uint32_t> rests_on;
+  double volume_mm3 = 0.0;
+  double overhang_mm2 = 0.0;
 };
 
 struct LayerReport {
@@ -59,8 +69,46 @@ struct LayerReport {
   double unsupported_area_mm2 = 0.0;
   double max_tilt_deg = 0.0;
   std::uint32_t paths = 0;
+  // The torch: deposit points whose axis leaves the layer's normal by more than kTiltedDeg, those
+  // the planner turned for clearance or reach, and the rule that set the layer's tilt (kTilt…).
+  std::uint32_t tilted_points = 0;
+  std::uint32_t turned_points = 0;
+  std::uint32_t eased_points = 0;  // tilts eased towards the normal where the head would strike the deposit
+  std::string tilt_rule;
   // The pieces counted in unsupported_area_mm2, in the layer's (u, v) frame.
   std::vector<geom2d::Polygon> unsupported;
+};
+
+// The rules that place a layer in the build order (src/planner/sequence.h; Dwivedi Rules 2–4).
+inline constexpr const char* kRuleStart = "order.root";          // the root region's first layer
+inline constexpr const char* kRuleFather = "order.after-father";  // a child starts once its father and what its base rests on are complete
+inline constexpr const char* kRuleContinue = "order.continue";    // the next layer of the region being built (Rule 4)
+inline constexpr const char* kRuleLevel = "order.level";          // the lowest pending interference level, in region order (Rules 2–3)
+
+// The rules that set a layer's torch axes (toolpath.h, Kapil Eq. 3; the build model's guard).
+inline constexpr const char* kTiltNormal = "tilt.normal";        // along the layer's normal everywhere
+inline constexpr const char* kTiltOverhang = "tilt.overhang";    // tilted over overhanging outer contours (Kapil Eq. 3)
+inline constexpr const char* kTiltClearance = "tilt.clearance";  // turned towards the table's normal for clearance or reach
+inline constexpr const char* kTiltOnPlate = "tilt.on-plate";     // laid on the plate: upright
+inline constexpr const char* kTiltEased = "tilt.eased";          // tilts eased towards the normal to clear the deposit
+// A deposit point's axis this far from the layer's normal counts as tilted.
+inline constexpr double kTiltedDeg = 0.5;
+
+// Interfering layers listed per layer, at most.
+inline constexpr std::size_t kMaxListedInterference = 16;
+
+// Why a layer is where it is in the build order.
+struct LayerOrder {
+  std::uint32_t region = 0;
+  std::uint32_t region_layer = 0;  // 1-based within its region: Dwivedi's L_n of R_n
+  // Interference level (Dwivedi's Gd): 0 when the layer's C-space contour overlaps no layer of
+  // another region (other than its ancestors'); layers that interfere share levels.
+  std::uint32_t level = 0;
+  std::string rule;  // one of the kRule ids above
+  // The layers (build-order indices) whose C-space contours overlap this one's, the first
+  // kMaxListedInterference of `interferences`.
+  std::vector<std::uint32_t> interferes_with;
+  std::uint32_t interferences = 0;
 };
 
 // Wall-clock seconds of each stage of make_plan.
@@ -69,6 +117,7 @@ struct StageTimes {
   double toolpath_s = 0.0;
   double program_s = 0.0;
   double support_s = 0.0;
+  double sequence_s = 0.0;
 };
 
 // Where the part stands on the table: table = rotation · part + translation. The rotation is the
@@ -86,6 +135,17 @@ struct Placement {
 // The smallest rotation turning D (any non-zero vector) to +Z; a half turn about X for −Z.
 Placement rotation_to_z(Vec3 d);
 
+// A reorientation of the program and the rule that made it (kReorient…).
+struct Reorientation {
+  std::uint64_t point = 0;  // the program point reached by the turn
+  std::uint32_t layer = 0;
+  double angle_deg = 0.0;
+  std::string rule;
+};
+inline constexpr const char* kReorientRegion = "reorient.region";  // the next layer is another region's, along its direction
+inline constexpr const char* kReorientLayer = "reorient.layer";    // the next layer of the region starts with another tilt
+inline constexpr const char* kReorientTilt = "reorient.tilt";      // the torch tilt changes along a layer
+
 struct Plan {
   StageTimes times;
   slicing::SliceResult layers;
@@ -93,6 +153,8 @@ struct Plan {
   std::vector<post::ProgramPoint> program;  // tool tip and axis, part frame
   std::vector<LayerReport> layer_reports;
   std::vector<std::uint32_t> region_of_layer;  // region id of each layer
+  std::vector<LayerOrder> order;               // why each layer is where it is (indexed like layers)
+  double c_space_radius_mm = 0.0;              // the head radius the C-space contours were grown by
   std::uint32_t regions = 1;
   // The regions as built, placed (the whole part as region 0 when no regions were given); a
   // region's support_free is cleared when one of its layers has unsupported area.
@@ -102,11 +164,16 @@ struct Plan {
   // Tool axes turned towards the table's normal to keep the head clear of the plate or the table,
   // or inside the tilt axis's reach, and the first layers on the plate laid with the torch upright.
   std::uint64_t axes_turned = 0;
+  // Tilts eased towards the layer's normal where the tilted head would strike the deposit, and
+  // travel moves that leave the straight line to clear it (planner/clearance.h).
+  std::uint64_t tilts_eased = 0;
+  std::uint64_t travel_detours = 0;
   double deposit_length_mm = 0.0;
   double travel_length_mm = 0.0;
   double unsupported_area_mm2 = 0.0;
   double max_tilt_deg = 0.0;
   std::uint64_t reorientations = 0;  // tool-axis changes of more than kReorientationDeg between points
+  std::vector<Reorientation> reorientation_list;  // each of them, in program order
   std::uint64_t thin_regions = 0;
   double thin_area_mm2 = 0.0;
 };
@@ -116,6 +183,18 @@ struct Plan {
 inline constexpr double kReorientationDeg = 5.0;
 // Unsupported area below this is snapping noise, not an overhang.
 inline constexpr double kUnsupportedNoiseMm2 = 0.01;
+
+// A rule of the rule base (SPEC §2.9, Dwivedi §5–7): its id, what it says, and its parameters
+// (from the process and the machine files), as plan.json lists them.
+struct Rule {
+  std::string id;
+  std::string says;
+  std::vector<std::pair<std::string, double>> parameters;
+};
+
+// The rules a plan's decisions name (regions, layer order, reorientations, torch tilt), with the
+// parameters they had for PLAN.
+std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process::ProcessConfig& process, const Plan& plan);
 
 // Places PART (turning it so that the build direction — the first region's — is the table's +Z,
 // then translating it so that the first region's base sits on the substrate's top at Z = 0 and

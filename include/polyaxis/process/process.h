@@ -36,6 +36,14 @@ struct ProcessConfig {
     double size_x_mm = 0.0;  // 0: footprint + 2·margin
     double size_y_mm = 0.0;
   } substrate;
+  // Parameters of the planning rules (plan.json "rules", docs/plan.md "The rule base").
+  struct Rules {
+    // Interfering layers of brother regions are built level by level (order.level); false builds
+    // each region to its end before the next (order.continue only).
+    bool interleave = true;
+    // The C-space contours are grown by the head's radius plus this (mm).
+    double c_space_margin_mm = 0.0;
+  } rules;
 };
 
 // A layer higher than this fraction of the bead width cannot be deposited as one bead (P2).

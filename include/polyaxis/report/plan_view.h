@@ -35,6 +35,10 @@ struct ViewLayer {
   // Machine rotary positions over the layer's program points, degrees (0 on 3-axis machines).
   std::array<double, 2> tilt_deg{0.0, 0.0};
   std::array<double, 2> c_deg{0.0, 0.0};
+  // Its place in the build order and its torch (planner::LayerOrder, LayerReport).
+  planner::LayerOrder order;
+  std::string tilt_rule;
+  std::uint32_t tilted_points = 0, turned_points = 0, eased_points = 0;
   std::vector<std::vector<Vec3>> contours;     // closed rings (last point != first), outer and holes
   std::vector<std::vector<Vec3>> unsupported;  // the unsupported pieces' rings
 };
@@ -64,6 +68,11 @@ struct PlanView {
   std::vector<ViewLayer> layers;
   std::vector<post::ProgramPoint> program;
   std::vector<ViewCollision> collisions;  // the first verify::kMaxListedCollisions
+  // The rule base (planner::rule_base), the reorientations with their rules, and the head, table
+  // and plate the plan was checked against.
+  std::vector<planner::Rule> rules;
+  std::vector<planner::Reorientation> reorientations;
+  machine::BuildModel build_model;
 };
 
 // The view of PLAN. AXIS (part frame, before placement) may be null. METRICS_JSON is report.json.

@@ -103,6 +103,8 @@ struct LayerToolpaths {
   std::vector<ThinRegion> thin;
   double deposit_length_mm = 0.0;  // total length of the moves with deposit = true
   double travel_length_mm = 0.0;   // total length of the travel paths
+  std::uint32_t axes_turned = 0;   // tool axes the planner turned for clearance or reach (planner/plan.h)
+  std::uint32_t axes_eased = 0;    // tilts the planner eased to clear the deposit (planner/plan.h)
 };
 
 // Checks OPTIONS (kUsage naming the option).

@@ -35,6 +35,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -43,6 +44,7 @@
 #include "polyaxis/core/vec3.h"
 #include "polyaxis/machine/build_model.h"
 #include "polyaxis/machine/machine.h"
+#include "polyaxis/post/program.h"
 #include "polyaxis/process/process.h"
 
 namespace polyaxis::verify {
@@ -92,5 +94,21 @@ struct BuildCheck {
 // G-code (kInvalidInput, as simulate). Cost: linear in the tip path / sample spacing.
 core::Result<BuildCheck> verify_build(const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                       const machine::BuildModel& model, std::string_view gcode);
+
+// The clearance of the head at one program point: to the plate or the table, and to the deposit
+// laid before it (the process-on moves of PROGRAM before the point, as balls along the beads; the
+// material within kIgnoreBeads of the tip left out, as verify_build does). Negative: inside.
+struct PointClearance {
+  double fixture_mm = 0.0;            // machine::head_clearance_mm, with the tip's own height
+  std::optional<double> deposit_mm;   // none when nothing was laid before outside the ignored zone
+  std::string deposit_body;           // "deposit of layer L region R"
+  std::uint32_t deposit_layer = 0, deposit_region = 0;
+  core::Vec3 deposit_point;           // the nearest bead point
+};
+
+// PROGRAM is the plan's (table frame); POINT < PROGRAM.size(). Brute force: linear in the deposit
+// before the point (meant for `polyaxis explain`, not for whole programs).
+PointClearance clearance_at(const machine::BuildModel& model, const std::vector<post::ProgramPoint>& program, std::size_t point,
+                            double bead_mm);
 
 }  // namespace polyaxis::verify

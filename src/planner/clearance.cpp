@@ -1,0 +1,113 @@
+#include "clearance.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "reach.h"
+
+namespace polyaxis::planner::detail {
+namespace {
+
+// Travel is checked at most this far apart (mm) and this much axis turn apart (degrees).
+constexpr double kTravelStepMm = 1.0;
+constexpr double kTravelStepDeg = 2.0;
+// Distances tried out along the axes before crossing (mm), before the sphere.
+constexpr double kLiftsMm[] = {10.0, 25.0, 50.0, 100.0};
+constexpr double kPi = 3.14159265358979323846;
+
+bool clear_at(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
+              double margin_mm, Vec3 tip, Vec3 axis) {
+  return machine::head_clearance_mm(model, tip, axis) >= clearance_mm && !deposit.strikes(tip, axis, before, margin_mm);
+}
+
+// Every sample of the move from (P, A) to (Q, B), tip straight and axis along the great circle.
+bool clear_move(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
+                double margin_mm, Vec3 p, Vec3 a, Vec3 q, Vec3 b) {
+  const double turn = std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kPi;
+  const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(q - p) / kTravelStepMm, turn / kTravelStepDeg))));
+  for (int k = 0; k <= pieces; ++k) {
+    const double u = static_cast<double>(k) / pieces;
+    const Vec3 axis = core::normalized(a * (1.0 - u) + b * u);
+    if (core::norm(axis) < 0.5) return false;  // opposite axes: no straight turn
+    if (!clear_at(model, deposit, before, clearance_mm, margin_mm, p + (q - p) * u, axis)) return false;
+  }
+  return true;
+}
+
+// Samples of the move from (P, A) to (Q, B) strictly after P against the deposit only.
+bool clear_move_deposit(const verify::DepositCheck& deposit, std::size_t before, double margin_mm, Vec3 p, Vec3 a, Vec3 q, Vec3 b) {
+  const double turn = std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kPi;
+  const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(q - p) / kTravelStepMm, turn / kTravelStepDeg))));
+  for (int k = 1; k < pieces; ++k) {
+    const double u = static_cast<double>(k) / pieces;
+    if (deposit.strikes(p + (q - p) * u, core::normalized(a * (1.0 - u) + b * u), before, margin_mm)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<verify::PlannedPoint> planned_points(const Plan& plan) {
+  std::vector<verify::PlannedPoint> out;
+  for (const toolpath::LayerToolpaths& lt : plan.toolpaths) {
+    for (const toolpath::Path& path : lt.paths) {
+      for (const toolpath::PathPoint& p : path.points) out.push_back({p.position_mm, p.deposit});
+    }
+  }
+  return out;
+}
+
+void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOptions& options, const verify::DepositCheck& deposit,
+                double bead_mm) {
+  const double reach = reach_rad(machine), margin = kDepositMarginBeads * bead_mm;
+  const double tilted_cos = std::cos(kTiltedDeg * kPi / 180.0);
+  std::size_t flat = 0;
+  for (std::size_t k = 0; k < plan.toolpaths.size(); ++k) {
+    const Vec3 n = plan.layers.layers[k].frame.d;
+    for (toolpath::Path& path : plan.toolpaths[k].paths) {
+      for (toolpath::PathPoint& p : path.points) {
+        const std::size_t i = flat++;
+        // The point, and the move into it from the path's point before: the axis turning on the
+        // way, or, where the rotary axes cannot keep up (the G-code writer's stall split), turned in
+        // place first and held along the move.
+        const toolpath::PathPoint* before = &p == path.points.data() ? nullptr : &p - 1;
+        auto strikes = [&](Vec3 axis) {
+          if (deposit.strikes(p.position_mm, axis, i, margin)) return true;
+          if (before == nullptr) return false;
+          const Vec3 from = before->position_mm;
+          return !clear_move_deposit(deposit, i, margin, from, before->tool_axis, p.position_mm, axis) ||
+                 !clear_move_deposit(deposit, i, margin, from, before->tool_axis, from, axis) ||
+                 !clear_move_deposit(deposit, i, margin, from, axis, p.position_mm, axis);
+        };
+        if (core::dot(core::normalized(p.tool_axis), n) >= tilted_cos || !strikes(p.tool_axis)) continue;
+        for (const double f : {0.25, 0.5, 0.75, 1.0}) {
+          Vec3 axis = core::normalized(p.tool_axis * (1.0 - f) + n * f);
+          if (!guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, n, axis)) continue;
+          if (strikes(axis)) continue;
+          p.tool_axis = axis;
+          ++plan.tilts_eased, ++plan.toolpaths[k].axes_eased;
+          break;
+        }
+      }
+    }
+  }
+}
+
+std::vector<TransitPoint> clear_travel(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before,
+                                       double clearance_mm, double margin_mm, Vec3 from, Vec3 a, Vec3 to, Vec3 b, Vec3 centre,
+                                       double radius) {
+  a = core::normalized(a), b = core::normalized(b);
+  if (clear_move(model, deposit, before, clearance_mm, margin_mm, from, a, to, b)) return {};
+  for (const double lift : kLiftsMm) {
+    const Vec3 p = from + a * lift, q = to + b * lift;
+    if (core::norm(p - centre) > radius && core::norm(q - centre) > radius) break;  // the sphere is shorter from here
+    if (clear_move(model, deposit, before, clearance_mm, margin_mm, from, a, p, a) &&
+        clear_move(model, deposit, before, clearance_mm, margin_mm, p, a, q, b) &&
+        clear_move(model, deposit, before, clearance_mm, margin_mm, q, b, to, b)) {
+      return {{p, a}, {q, b}};
+    }
+  }
+  return transit(from, a, to, b, centre, radius);
+}
+
+}  // namespace polyaxis::planner::detail

@@ -1,0 +1,37 @@
+// The planner's own collision avoidance against the deposit (issue 12, items 2–3), before any
+// G-code exists (verify/deposit_check.h); the read-back verification still judges the result.
+// Private to the planner.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "polyaxis/planner/plan.h"
+#include "polyaxis/verify/deposit_check.h"
+#include "transit.h"
+
+namespace polyaxis::planner::detail {
+
+// Clearance the planner keeps from the deposit beyond the verification's own (mm, a share of the bead).
+inline constexpr double kDepositMarginBeads = 0.5;
+
+// The path points of PLAN's toolpaths in build order (empty paths skipped), as the program visits them.
+std::vector<verify::PlannedPoint> planned_points(const Plan& plan);
+
+// Where the tilted torch at a deposit point would strike the deposit laid before it, the tilt is
+// eased towards the layer's normal (a quarter, a half, three quarters, all of the way), keeping
+// the plate, the table and the reach clear (guard_axis); the first that clears, with the move into
+// the point from the path's point before it, is kept. Counts go to the layers' toolpaths
+// (axes_eased) and the plan (tilts_eased).
+void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOptions& options, const verify::DepositCheck& deposit,
+                double bead_mm);
+
+// Travel from FROM (axis A) to TO (axis B), both retracted from the part, that keeps the head clear
+// of the plate, the table and the deposit laid before program point BEFORE: straight when that is
+// clear, else out along both axes by growing distances and across, else over the sphere
+// (CENTRE, RADIUS) (transit.h). Returns the points strictly between FROM and TO.
+std::vector<TransitPoint> clear_travel(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before,
+                                       double clearance_mm, double margin_mm, Vec3 from, Vec3 a, Vec3 to, Vec3 b, Vec3 centre,
+                                       double radius);
+
+}  // namespace polyaxis::planner::detail

@@ -1,0 +1,66 @@
+// The rule base as plan.json lists it (SPEC §2.9): every rule id the planner records, in words,
+// with the parameters it ran with.
+#include <cmath>
+#include <numbers>
+
+#include "polyaxis/planner/plan.h"
+#include "clearance.h"
+#include "reach.h"
+
+namespace polyaxis::planner {
+
+std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process::ProcessConfig& process, const Plan& plan) {
+  const double reach_deg = detail::reach_rad(machine) * 180.0 / std::numbers::pi;
+  const double alpha = process.self_supporting_deg;
+  return {
+      {kRegionWhole, "the part is built as one region along one direction (--strategy single, or the better plan of --strategy auto)", {}},
+      {"plate", "the root region stands on the substrate plate: its base is the part's face on the plate", {}},
+      {"root base (face)", "the root region stands on the planar face given by --root-base, built along its inward normal", {}},
+      {"root base (plane)", "the root region is the side of the plane given by --root-base that its normal points to", {}},
+      {"planar face",
+       "a region needs its own direction where the centroidal axis breaks (Ruan §4.2.1): it is cut off at a planar face of the part, "
+       "and built along the face's inward normal",
+       {{"self_supporting_deg", alpha}, {"reach_deg", reach_deg}}},
+      {"fallback plane",
+       "a region needs its own direction where the centroidal axis breaks and no planar face bounds it: cut by the plane normal to the "
+       "axis there, and built along that normal",
+       {{"self_supporting_deg", alpha}, {"reach_deg", reach_deg}}},
+      {"overhang patch",
+       "a region needs its own direction where an overhang patch cannot be built along its parent's: split off along the patch's "
+       "silhouette and built along the direction that leaves the least overhang within the reach",
+       {{"self_supporting_deg", alpha}, {"reach_deg", reach_deg}}},
+      {"below the plate", "the part below the root's base is a region of its own, built after the root from the cut upwards", {}},
+      {kRuleStart, "the root region's first layer starts the build, on the plate", {}},
+      {kRuleFather, "a child region starts once its father is complete (Dwivedi: a child is not built before its father)", {}},
+      {kRuleContinue, "the region being built goes on with its next layer (Dwivedi Rule 4: layers of a region in layer order)", {}},
+      {kRuleLevel,
+       "layers of brother regions whose C-space contours (the contour grown by the head's radius, Dwivedi Eq. 3) overlap share an "
+       "interference level (Rule 2); the lowest pending level is built first, in region order (Rule 3), so brothers are built level by "
+       "level",
+       {{"c_space_radius_mm", plan.c_space_radius_mm},
+        {"c_space_margin_mm", process.rules.c_space_margin_mm},
+        {"interleave", process.rules.interleave ? 1.0 : 0.0}}},
+      {kReorientRegion, "the tool axis turns to the next region's direction before its layer", {{"reorientation_deg", kReorientationDeg}}},
+      {kReorientLayer, "the tool axis turns between two layers of a region where their tilts differ", {{"reorientation_deg", kReorientationDeg}}},
+      {kReorientTilt, "the tool axis turns along a layer where the torch tilt changes", {{"reorientation_deg", kReorientationDeg}}},
+      {kTiltNormal, "the torch stays along the layer's normal: nothing overhangs", {}},
+      {kTiltOverhang,
+       "the torch tilts over overhanging outer contours (Kapil Eq. 3), smoothed within the tilt axis's speed",
+       {{"self_supporting_deg", alpha}, {"max_step_bead_share", process.max_step_bead_share}}},
+      {kTiltClearance,
+       "tool axes are turned towards the table's normal where the head would come too close to the plate or the table, or leave the "
+       "tilt axis's reach",
+       {{"reach_deg", reach_deg}, {"nozzle_cylinder_radius_mm", machine.nozzle.cylinder_radius_mm}}},
+      {kTiltOnPlate, "layers laid on the plate are deposited with the torch upright", {}},
+      {kTiltEased,
+       "where the tilted head would strike the deposit laid before, the tilt is eased towards the layer's normal (a quarter at a time) "
+       "as far as it must, keeping the plate, the table and the reach clear",
+       {{"deposit_margin_mm", detail::kDepositMarginBeads * process.bead_width_mm}}},
+      {"travel.clear",
+       "moves between layers and regions go straight where the head clears the plate, the table and the deposit; else out along both "
+       "tool axes and across; else over a sphere around the part",
+       {{"deposit_margin_mm", detail::kDepositMarginBeads * process.bead_width_mm}}},
+  };
+}
+
+}  // namespace polyaxis::planner

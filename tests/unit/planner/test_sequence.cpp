@@ -1,0 +1,158 @@
+// The build order (planner/sequence.h): C-space contours, interference levels, brothers built
+// level by level where one built to its end would be struck by the head building the other, and
+// the read-back verification agreeing.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "planner/sequence.h"
+#include "polyaxis/planner/plan.h"
+#include "polyaxis/post/gcode.h"
+#include "polyaxis/verify/verify.h"
+#include "support/meshes.h"
+#include "support/programs.h"
+#include "support/repaired.h"
+
+namespace polyaxis::planner {
+namespace {
+
+using detail::Sequence;
+using detail::sequence_layers;
+using test::box;
+
+mesh::Mesh mesh_of(const io::RawMesh& raw) { return test::repaired(raw).mesh; }
+
+// A square of side S centred at the origin of a layer in the plane through ORIGIN normal to D.
+slicing::Layer square_layer(Vec3 d, Vec3 origin, double s) {
+  slicing::Layer l;
+  l.frame = slicing::plane_frame(d, core::dot(origin, core::normalized(d)));
+  l.frame.origin = origin;
+  l.height_mm = core::dot(origin, l.frame.d);
+  l.below_mm = l.above_mm = 0.25;
+  const std::int64_t h = geom2d::to_units(0.5 * s);
+  l.polygons.push_back({{{-h, -h}, {h, -h}, {h, h}, {-h, h}}, {}});
+  l.area_mm2 = s * s;
+  return l;
+}
+
+std::vector<PlanRegion> three_regions() {
+  std::vector<PlanRegion> r(3);
+  r[0].id = 0, r[1].id = 1, r[2].id = 2;
+  r[1].parent = 0, r[2].parent = 0;
+  return r;
+}
+
+TEST(Sequence, CrossingLayersInterfereWhenTheirGrownContoursMeetOnTheLineTheirPlanesShare) {
+  // A horizontal 10 mm square at the origin and a vertical one (normal +X) in the plane GAP beyond
+  // the first's edge, both grown by 5 mm: the planes meet on the line x = 5 + gap, which the first's
+  // grown contour reaches while the gap is under 5 mm (the second's spans z = 3 ± 10 there).
+  for (const double gap : {2.0, 4.5, 5.5, 9.0, 30.0}) {
+    const std::vector<slicing::Layer> layers{square_layer({0, 0, 1}, {0, 0, 0}, 10.0), square_layer({1, 0, 0}, {5.0 + gap, 0, 3}, 10.0)};
+    const Sequence s = sequence_layers(layers, {1, 2}, three_regions(), 5.0, true);
+    const bool expect = gap < 5.0;
+    EXPECT_EQ(s.records[0].interferences, expect ? 1u : 0u) << gap;
+    EXPECT_EQ(s.records[1].level, expect ? 1u : 0u) << gap;
+  }
+}
+
+TEST(Sequence, ParallelLayersInterfereOnlyInOneSlab) {
+  // Two coplanar squares 20 mm apart grown by 12 mm overlap; lifted by a layer they do not.
+  const std::vector<slicing::Layer> flat{square_layer({0, 0, 1}, {0, 0, 5}, 10.0), square_layer({0, 0, 1}, {30, 0, 5}, 10.0)};
+  EXPECT_EQ(sequence_layers(flat, {1, 2}, three_regions(), 12.0, true).records[0].interferences, 1u);
+  EXPECT_EQ(sequence_layers(flat, {1, 2}, three_regions(), 9.0, true).records[0].interferences, 0u);
+  const std::vector<slicing::Layer> lifted{square_layer({0, 0, 1}, {0, 0, 5}, 10.0), square_layer({0, 0, 1}, {30, 0, 6}, 10.0)};
+  EXPECT_EQ(sequence_layers(lifted, {1, 2}, three_regions(), 12.0, true).records[0].interferences, 0u);
+}
+
+TEST(Sequence, AFatherAndItsChildNeverInterfereAndTheChildWaits) {
+  // Region 1 (child of 0) listed first in the layers would still come after all of region 0.
+  std::vector<slicing::Layer> layers;
+  for (int k = 0; k < 3; ++k) layers.push_back(square_layer({0, 0, 1}, {0, 0, 0.5 * k}, 10.0));
+  for (int k = 0; k < 3; ++k) layers.push_back(square_layer({0, 0, 1}, {0, 0, 1.5 + 0.5 * k}, 10.0));
+  std::vector<PlanRegion> regions(2);
+  regions[0].id = 0, regions[1].id = 1, regions[1].parent = 0;
+  const Sequence s = sequence_layers(layers, {0, 0, 0, 1, 1, 1}, regions, 25.0, true);
+  EXPECT_EQ(s.order, (std::vector<std::uint32_t>{0, 1, 2, 3, 4, 5}));
+  for (const LayerOrder& r : s.records) EXPECT_EQ(r.interferences, 0u);
+  EXPECT_EQ(s.records[0].rule, kRuleStart);
+  EXPECT_EQ(s.records[3].rule, kRuleFather);
+  EXPECT_EQ(s.records[4].rule, kRuleContinue);
+}
+
+// A block with two parallel walls on it, GAP apart, each a region of its own built upwards: the
+// default head (cylinder r 25 mm, 20 mm above the tip) building one wall's first layers reaches
+// over the other wall's full height when that one is built first.
+struct TwoWalls {
+  Plan plan;
+  verify::BuildCheck check;
+};
+
+TwoWalls plan_two_walls(double gap, bool interleave) {
+  const io::RawMesh root = box({0, 0, 0}, {40 + gap, 20, 6}), a = box({10, 4, 6}, {12, 16, 36}), b = box({12 + gap, 4, 6}, {14 + gap, 16, 36});
+  std::vector<PlanRegion> regions(3);
+  const io::RawMesh parts[3] = {root, a, b};
+  for (std::uint32_t i = 0; i < 3; ++i) {
+    regions[i].id = i;
+    regions[i].mesh = mesh_of(parts[i]);
+    regions[i].direction = {0, 0, 1};
+    if (i > 0) regions[i].parent = 0, regions[i].rests_on = {0};
+  }
+  const machine::MachineConfig m = machine::parse_machine(machine::default_machine_json(), "default").value();
+  process::ProcessConfig p = test::default_process();
+  p.rules.interleave = interleave;
+  PlanOptions o;
+  auto plan = make_plan(test::repaired(test::join(test::join(root, a), b)), m, p, o, regions);
+  EXPECT_TRUE(plan.ok()) << plan.error().message;
+  TwoWalls out{std::move(plan.value()), {}};
+  auto gcode = post::write_gcode(m, p, out.plan.program);
+  EXPECT_TRUE(gcode.ok()) << gcode.error().message;
+  auto check = verify::verify_build(m, p, out.plan.build_model, gcode.value());
+  EXPECT_TRUE(check.ok());
+  out.check = check.value();
+  return out;
+}
+
+// How often the build switches between the walls (regions 1 and 2).
+int switches(const Plan& plan) {
+  int n = 0;
+  for (std::size_t k = 1; k < plan.region_of_layer.size(); ++k) {
+    const std::uint32_t a = plan.region_of_layer[k - 1], b = plan.region_of_layer[k];
+    n += (a != b && a > 0 && b > 0) ? 1 : 0;
+  }
+  return n;
+}
+
+TEST(Sequence, CloseWallsAreBuiltLevelByLevelAndVerifyCleanWhereOneAfterTheOtherCollides) {
+  const TwoWalls together = plan_two_walls(16.0, true);
+  std::size_t wall_layers = 0;
+  for (const std::uint32_t r : together.plan.region_of_layer) wall_layers += r > 0 ? 1 : 0;
+  ASSERT_GT(wall_layers, 40u);
+  // L1R1, L1R2, L2R1, L2R2 …: a switch at every layer, each pair on one level.
+  EXPECT_GE(switches(together.plan), static_cast<int>(wall_layers) - 2);
+  for (std::size_t k = 0; k < together.plan.order.size(); ++k) {
+    const LayerOrder& o = together.plan.order[k];
+    if (o.region == 0) continue;
+    EXPECT_EQ(o.level, o.region_layer) << k;
+    EXPECT_TRUE(o.rule == kRuleFather || o.rule == kRuleLevel) << k << " " << o.rule;
+    EXPECT_GT(o.interferences, 0u);
+  }
+  EXPECT_EQ(together.check.material_collisions, 0u);
+  EXPECT_EQ(together.check.head_collisions, 0u);
+  EXPECT_EQ(together.check.ungrounded_samples, 0u);
+
+  // One wall to its end, then the other: the head strikes the first wall.
+  const TwoWalls apart = plan_two_walls(16.0, false);
+  EXPECT_EQ(switches(apart.plan), 1);
+  EXPECT_GT(apart.check.material_collisions, 0u);
+}
+
+TEST(Sequence, WallsFartherApartThanTheHeadIsWideAreEachBuiltToTheirEnd) {
+  const TwoWalls far = plan_two_walls(60.0, true);
+  EXPECT_EQ(switches(far.plan), 1);
+  for (const LayerOrder& o : far.plan.order) EXPECT_EQ(o.level, 0u);
+  EXPECT_EQ(far.check.material_collisions, 0u);
+}
+
+}  // namespace
+}  // namespace polyaxis::planner
