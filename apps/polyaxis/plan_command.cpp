@@ -167,6 +167,8 @@ Runner add_plan_command(CLI::App& app) {
   cmd->add_option("--path-tolerance-mm", o->chordal_mm, "Largest tool-tip deviation from the path between G-code blocks, mm")
       ->capture_default_str()->check(CLI::Range(1e-4, 1.0));
   cmd->add_option("--threads", o->part_plan.plan.threads, "Worker threads (0: all cores)");
+  cmd->add_flag("--allow-collisions", o->part_plan.allow_collisions,
+                "Write a plan whose program, read back, still strikes the plate, the table or the deposit (exit 0, with a warning)");
   cmd->add_flag("--json", o->json, "Print report.json instead of one line");
   cmd->add_flag("--svg", o->svg, "Also write one SVG per layer (contours, paths, seams): DIR/layer_NNNNN.svg");
   cmd->add_flag("!--no-html", o->html, "Do not write report.html");

@@ -61,16 +61,19 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
                 double bead_mm) {
   const double reach = reach_rad(machine), margin = kDepositMarginBeads * bead_mm;
   const double tilted_cos = std::cos(kTiltedDeg * kPi / 180.0);
+  const std::uint32_t root = plan.placed_regions.empty() ? 0 : plan.placed_regions.front().id;
   std::size_t flat = 0;
   for (std::size_t k = 0; k < plan.toolpaths.size(); ++k) {
     const Vec3 n = plan.layers.layers[k].frame.d;
+    const toolpath::PathPoint* previous = nullptr;  // the layer's point before, across its paths
     for (toolpath::Path& path : plan.toolpaths[k].paths) {
       for (toolpath::PathPoint& p : path.points) {
         const std::size_t i = flat++;
-        // The point, and the move into it from the path's point before: the axis turning on the
+        // The point, and the move into it from the layer's point before: the axis turning on the
         // way, or, where the rotary axes cannot keep up (the G-code writer's stall split), turned in
         // place first and held along the move.
-        const toolpath::PathPoint* before = &p == path.points.data() ? nullptr : &p - 1;
+        const toolpath::PathPoint* before = previous;
+        previous = &p;
         auto strikes = [&](Vec3 axis) {
           if (deposit.strikes(p.position_mm, axis, i, margin)) return true;
           if (before == nullptr) return false;
@@ -79,9 +82,20 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
                  !clear_move_deposit(deposit, i, margin, from, before->tool_axis, from, axis) ||
                  !clear_move_deposit(deposit, i, margin, from, axis, p.position_mm, axis);
         };
-        if (core::dot(core::normalized(p.tool_axis), n) >= tilted_cos || !strikes(p.tool_axis)) continue;
+        // Along the layer's normal a planar layer's head stays above everything its own region
+        // laid before: only other regions' deposit can be struck there.
+        const bool tilted = core::dot(core::normalized(p.tool_axis), n) < tilted_cos;
+        if ((!tilted && plan.region_of_layer[k] == root) || !strikes(p.tool_axis)) continue;
+        // Towards the layer's normal first, then towards the table's (within the torch's tilt limit).
+        std::vector<Vec3> candidates;
         for (const double f : {0.25, 0.5, 0.75, 1.0}) {
-          Vec3 axis = core::normalized(p.tool_axis * (1.0 - f) + n * f);
+          if (tilted) candidates.push_back(core::normalized(p.tool_axis * (1.0 - f) + n * f));
+        }
+        for (const double f : {0.25, 0.5, 0.75, 1.0}) {
+          const Vec3 up = core::normalized(p.tool_axis * (1.0 - f) + Vec3{0, 0, 1} * f);
+          if (core::norm(up) > 0.5 && core::dot(up, n) >= std::cos(toolpath::kMaxTiltRad)) candidates.push_back(up);
+        }
+        for (Vec3 axis : candidates) {
           if (!guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, n, axis)) continue;
           if (strikes(axis)) continue;
           p.tool_axis = axis;

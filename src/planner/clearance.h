@@ -18,8 +18,9 @@ inline constexpr double kDepositMarginBeads = 0.5;
 // The path points of PLAN's toolpaths in build order (empty paths skipped), as the program visits them.
 std::vector<verify::PlannedPoint> planned_points(const Plan& plan);
 
-// Where the tilted torch at a deposit point would strike the deposit laid before it, the tilt is
-// eased towards the layer's normal (a quarter, a half, three quarters, all of the way), keeping
+// Where the torch at a deposit point would strike the deposit laid before it (tilted, or of a
+// region other than the root), the axis is turned towards the layer's normal (a quarter, a half,
+// three quarters, all of the way), then towards the table's (within toolpath::kMaxTiltRad), keeping
 // the plate, the table and the reach clear (guard_axis); the first that clears, with the move into
 // the point from the path's point before it, is kept. Counts go to the layers' toolpaths
 // (axes_eased) and the plan (tilts_eased).

@@ -34,6 +34,14 @@ bool supplied_by_plate(const analysis::Region& r, const analysis::Region& root, 
   return depth <= process.substrate.thickness_mm;
 }
 
+// Collisions named in a message, at most.
+constexpr std::size_t kNamedCollisions = 3;
+
+std::string describe(const verify::Collision& c) {
+  return fmt::format("line {} (layer {} region {}) at ({:.2f}, {:.2f}, {:.2f}), the {} ({:.2f} mm)", c.line, c.layer, c.region, c.tip.x, c.tip.y,
+                     c.tip.z, c.body, c.depth_mm);
+}
+
 // Share of a part's faces that may cross another face for it to be decomposed.
 constexpr double kMaxCrossingShare = 0.01;
 // A root base within this of the part's lowest point (along the root's direction) is that point.
@@ -262,17 +270,21 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
   out.strategy_used = chosen.value().strategy;
   out.warnings = std::move(chosen.value().warnings);
   if (auto s = program_of(machine, process, options, out); !s) return s.error();
-  if (options.strategy == Strategy::kAuto && out.strategy_used == Strategy::kDecompose && !out.check.mid_air_regions.empty()) {
-    // Read back, a region of the decomposition starts in mid-air: one direction instead, which
-    // starts on the plate.
+  const bool mid_air = !out.check.mid_air_regions.empty(), collides = out.check.collisions > 0;
+  if (options.strategy == Strategy::kAuto && out.strategy_used == Strategy::kDecompose && (mid_air || collides)) {
+    // Read back, a region of the decomposition starts in mid-air, or the head strikes something
+    // no order or tilt could avoid: one direction instead, when that one reads back clean.
     auto single = plan_single(part, machine, process, options);
     if (single) {
       PlanPartResult alt;
       alt.plan = std::move(single.value().plan);
       alt.strategy_used = Strategy::kSingle;
-      if (program_of(machine, process, options, alt)) {
-        alt.choice = fmt::format("one build direction ({:.1f} mm2 unsupported): read back, the decomposition's region {} starts in mid-air",
-                                 alt.plan.unsupported_area_mm2, out.check.mid_air_regions.front());
+      if (program_of(machine, process, options, alt) && alt.check.collisions == 0 && alt.check.mid_air_regions.empty()) {
+        const std::string why = mid_air ? fmt::format("the decomposition's region {} starts in mid-air", out.check.mid_air_regions.front())
+                                        : fmt::format("the decomposition's program strikes something at {} samples (the first: {})",
+                                                      out.check.collisions, describe(out.check.collision_list.front()));
+        alt.choice = fmt::format("one build direction ({:.1f} mm2 unsupported): read back, {}", alt.plan.unsupported_area_mm2, why);
+        alt.warnings = {fmt::format("one build direction was chosen because, read back, {}", why)};
         out = std::move(alt);
       }
     }
@@ -287,11 +299,20 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
                                        plan.unsupported_area_mm2));
   }
   if (out.check.collisions > 0 && !out.check.collision_list.empty()) {
-    const verify::Collision& c = out.check.collision_list.front();
-    out.warnings.push_back(fmt::format("read back, the head strikes something at {} samples (the plate or table at {}, earlier deposit at "
-                                       "{}); the first: line {} (layer {} region {}), the {} ({:.2f} mm); report.html shows them in red",
-                                       out.check.collisions, out.check.head_collisions, out.check.material_collisions, c.line, c.layer,
-                                       c.region, c.body, c.depth_mm));
+    std::string first;
+    for (std::size_t i = 0; i < out.check.collision_list.size() && i < kNamedCollisions; ++i) {
+      first += (i ? "; " : "") + describe(out.check.collision_list[i]);
+    }
+    const std::string what = fmt::format("read back, the head strikes something at {} samples (the plate or table at {}, earlier deposit "
+                                         "at {}); the first: {}",
+                                         out.check.collisions, out.check.head_collisions, out.check.material_collisions, first);
+    if (!options.allow_collisions) {
+      return core::make_error(core::ErrorCode::kInfeasible,
+                              fmt::format("{}: no build order or torch tilt removed them; a slimmer head (machine nozzle), another "
+                                          "strategy, or --allow-collisions to write the plan for inspection",
+                                          what));
+    }
+    out.warnings.push_back(what + "; report.html shows them in red");
   }
   if (!out.check.mid_air_regions.empty()) {
     out.warnings.push_back(fmt::format("read back, region {} starts in mid-air: its first bead rests on nothing", out.check.mid_air_regions.front()));

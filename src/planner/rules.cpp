@@ -53,8 +53,8 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
        {{"reach_deg", reach_deg}, {"nozzle_cylinder_radius_mm", machine.nozzle.cylinder_radius_mm}}},
       {kTiltOnPlate, "layers laid on the plate are deposited with the torch upright", {}},
       {kTiltEased,
-       "where the tilted head would strike the deposit laid before, the tilt is eased towards the layer's normal (a quarter at a time) "
-       "as far as it must, keeping the plate, the table and the reach clear",
+       "where the head would strike the deposit laid before, the torch turns towards the layer's normal, then towards the table's "
+       "(a quarter at a time, within the torch's tilt limit) as far as it must, keeping the plate, the table and the reach clear",
        {{"deposit_margin_mm", detail::kDepositMarginBeads * process.bead_width_mm}}},
       {"travel.clear",
        "moves between layers and regions go straight where the head clears the plate, the table and the deposit; else out along both "

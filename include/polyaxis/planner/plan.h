@@ -90,7 +90,7 @@ inline constexpr const char* kTiltNormal = "tilt.normal";        // along the la
 inline constexpr const char* kTiltOverhang = "tilt.overhang";    // tilted over overhanging outer contours (Kapil Eq. 3)
 inline constexpr const char* kTiltClearance = "tilt.clearance";  // turned towards the table's normal for clearance or reach
 inline constexpr const char* kTiltOnPlate = "tilt.on-plate";     // laid on the plate: upright
-inline constexpr const char* kTiltEased = "tilt.eased";          // tilts eased towards the normal to clear the deposit
+inline constexpr const char* kTiltEased = "tilt.eased";          // turned towards the normal or the table's to clear the deposit
 // A deposit point's axis this far from the layer's normal counts as tilted.
 inline constexpr double kTiltedDeg = 0.5;
 

@@ -34,6 +34,9 @@ struct PlanPartOptions {
   // Work each decomposition may do (analysis::DecomposeOptions::work_budget_facet_visits): a few
   // seconds on one core; 0 for no limit. Splitting stops there with the regions found so far.
   double decompose_budget_facet_visits = kDefaultDecomposeBudget;
+  // A program that, read back, still strikes the plate, the table or earlier deposit is an error
+  // (kInfeasible) unless this is set (`--allow-collisions`): then it is kept, with a warning.
+  bool allow_collisions = false;
 };
 
 struct PlanPartResult {
@@ -57,8 +60,11 @@ struct PlanPartResult {
 //   the plan with the least unsupported area; on a tie the fewer regions, then the fewer
 //   reorientations. A candidate that fails is skipped when the other succeeds.
 // Then the G-code, its simulation against the plan and its verification against the build model.
+// With kAuto, a decomposition whose program, read back, starts a region in mid-air or still
+// collides gives way to the single direction when that one reads back clean.
 // Errors: those of make_plan and write_gcode (kUsage naming options, kInfeasible, kMachineLimit
-// naming the region, direction and limit); a program breaking a machine limit is kMachineLimit.
+// naming the region, direction and limit); a program breaking a machine limit is kMachineLimit; a
+// program with collisions is kInfeasible naming the first ones (unless allow_collisions).
 core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                        const process::ProcessConfig& process, const PlanPartOptions& options = {});
 

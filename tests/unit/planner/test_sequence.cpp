@@ -12,6 +12,7 @@
 #include "polyaxis/verify/verify.h"
 #include "support/meshes.h"
 #include "support/programs.h"
+#include "support/readback.h"
 #include "support/repaired.h"
 
 namespace polyaxis::planner {
@@ -86,9 +87,11 @@ TEST(Sequence, AFatherAndItsChildNeverInterfereAndTheChildWaits) {
 struct TwoWalls {
   Plan plan;
   verify::BuildCheck check;
+  test::ReadBack read_back;  // the tests' own brute-force reading, head against deposit included
 };
 
-TwoWalls plan_two_walls(double gap, bool interleave) {
+// READ_BACK: also the tests' own brute-force reading (head against every earlier deposit sample).
+TwoWalls plan_two_walls(double gap, bool interleave, bool read_back = false) {
   const io::RawMesh root = box({0, 0, 0}, {40 + gap, 20, 6}), a = box({10, 4, 6}, {12, 16, 36}), b = box({12 + gap, 4, 6}, {14 + gap, 16, 36});
   std::vector<PlanRegion> regions(3);
   const io::RawMesh parts[3] = {root, a, b};
@@ -104,12 +107,15 @@ TwoWalls plan_two_walls(double gap, bool interleave) {
   PlanOptions o;
   auto plan = make_plan(test::repaired(test::join(test::join(root, a), b)), m, p, o, regions);
   EXPECT_TRUE(plan.ok()) << plan.error().message;
-  TwoWalls out{std::move(plan.value()), {}};
+  TwoWalls out{std::move(plan.value()), {}, {}};
   auto gcode = post::write_gcode(m, p, out.plan.program);
   EXPECT_TRUE(gcode.ok()) << gcode.error().message;
   auto check = verify::verify_build(m, p, out.plan.build_model, gcode.value());
   EXPECT_TRUE(check.ok());
   out.check = check.value();
+  const machine::SubstratePlate& plate = out.plan.build_model.substrate;
+  const test::Plate pl{plate.x_min_mm, plate.x_max_mm, plate.y_min_mm, plate.y_max_mm, plate.top_z_mm, out.plan.build_model.table_top_z_mm()};
+  if (read_back) out.read_back = test::read_back(m, p, pl, gcode.value(), 1.1, 0.45, true);
   return out;
 }
 
@@ -124,7 +130,7 @@ int switches(const Plan& plan) {
 }
 
 TEST(Sequence, CloseWallsAreBuiltLevelByLevelAndVerifyCleanWhereOneAfterTheOtherCollides) {
-  const TwoWalls together = plan_two_walls(16.0, true);
+  const TwoWalls together = plan_two_walls(16.0, true, true);
   std::size_t wall_layers = 0;
   for (const std::uint32_t r : together.plan.region_of_layer) wall_layers += r > 0 ? 1 : 0;
   ASSERT_GT(wall_layers, 40u);
@@ -140,11 +146,14 @@ TEST(Sequence, CloseWallsAreBuiltLevelByLevelAndVerifyCleanWhereOneAfterTheOther
   EXPECT_EQ(together.check.material_collisions, 0u);
   EXPECT_EQ(together.check.head_collisions, 0u);
   EXPECT_EQ(together.check.ungrounded_samples, 0u);
+  EXPECT_EQ(together.read_back.head_in_deposit, 0u) << together.read_back.first_problem;
+  EXPECT_EQ(together.read_back.head_below, 0u) << together.read_back.first_problem;
 
   // One wall to its end, then the other: the head strikes the first wall.
-  const TwoWalls apart = plan_two_walls(16.0, false);
+  const TwoWalls apart = plan_two_walls(16.0, false, true);
   EXPECT_EQ(switches(apart.plan), 1);
   EXPECT_GT(apart.check.material_collisions, 0u);
+  EXPECT_GT(apart.read_back.head_in_deposit, 0u);
 }
 
 TEST(Sequence, WallsFartherApartThanTheHeadIsWideAreEachBuiltToTheirEnd) {
