@@ -45,6 +45,31 @@ bool clear_move_deposit(const verify::DepositCheck& deposit, std::size_t before,
   return true;
 }
 
+// The axis a turn in place passes through on a table-tilt machine: tilt from the table's normal
+// and azimuth about it each linear (one G-code block, joints interpolated), the azimuth the short
+// way round; at the pole the azimuth of the other end.
+Vec3 joint_lerp(Vec3 a, Vec3 b, double u) {
+  a = core::normalized(a), b = core::normalized(b);
+  const double ta = std::acos(std::clamp(a.z, -1.0, 1.0));
+  const double tb = std::acos(std::clamp(b.z, -1.0, 1.0));
+  double pa = std::atan2(a.y, a.x), pb = std::atan2(b.y, b.x);
+  if (std::hypot(a.x, a.y) < 1e-9) pa = pb;
+  if (std::hypot(b.x, b.y) < 1e-9) pb = pa;
+  double dp = std::remainder(pb - pa, 2.0 * kPi);
+  const double t = ta + (tb - ta) * u, phi = pa + dp * u;
+  return {std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t)};
+}
+
+// The turn in place at P from axis A to B, as joints interpolate it, against the deposit only.
+bool clear_turn_deposit(const verify::DepositCheck& deposit, std::size_t before, double margin_mm, Vec3 p, Vec3 a, Vec3 b) {
+  const double turn = std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kPi;
+  const int pieces = std::max(1, static_cast<int>(std::ceil(turn / kTravelStepDeg)) * 2);
+  for (int k = 1; k < pieces; ++k) {
+    if (deposit.strikes(p, joint_lerp(a, b, static_cast<double>(k) / pieces), before, margin_mm)) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<verify::PlannedPoint> planned_points(const Plan& plan) {
@@ -80,6 +105,7 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
           const Vec3 from = before->position_mm;
           return !clear_move_deposit(deposit, i, margin, from, before->tool_axis, p.position_mm, axis) ||
                  !clear_move_deposit(deposit, i, margin, from, before->tool_axis, from, axis) ||
+                 !clear_turn_deposit(deposit, i, margin, from, before->tool_axis, axis) ||
                  !clear_move_deposit(deposit, i, margin, from, axis, p.position_mm, axis);
         };
         // Along the layer's normal a planar layer's head stays above everything its own region

@@ -277,6 +277,66 @@ void count_reorientations(Plan& plan) {
   }
 }
 
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Slices REGION (placed) along its direction, makes its toolpaths with the torch guarded, and
+// appends its layers to PLAN, numbered after those there. TOPOLOGY: the whole part's, for an
+// undivided part (null otherwise).
+core::Status add_region(Plan& plan, const PlanRegion& region, const mesh::EdgeTopology* topology, const machine::MachineConfig& machine,
+                        const process::ProcessConfig& process, const PlanOptions& options) {
+  auto t0 = Clock::now();
+  slicing::SliceOptions slice;
+  slice.direction = region.direction;
+  slice.layer_mm = process.layer_mm;
+  slice.threads = options.threads;
+  slice.adaptive = process.adaptive_layers && process.layer_min_mm < process.layer_max_mm;
+  if (slice.adaptive) {
+    slice.min_mm = process.layer_min_mm;
+    slice.max_mm = process.layer_max_mm;
+    slice.limits.cusp_mm = process.cusp_mm;
+    slice.limits.overhang_deg = process.self_supporting_deg;
+    if (options.tilt_on_overhang && machine::has_rotary_axes(machine.kind)) {
+      slice.limits.overhang_step_mm = process.max_step_bead_share * process.bead_width_mm;
+    }
+  }
+  // The whole part's topology is valid only for the unsplit part.
+  auto layers = slicing::slice(region.mesh, slice, topology);
+  if (!layers) return layers.error();
+  plan.times.slice_s += since(t0);
+  t0 = Clock::now();
+  toolpath::ToolpathOptions tp;
+  tp.bead_width_mm = process.bead_width_mm;
+  tp.perimeters = options.perimeters;
+  tp.self_supporting_deg = process.self_supporting_deg;
+  tp.tilt_on_overhang = options.tilt_on_overhang && machine::has_rotary_axes(machine.kind);
+  tp.threads = options.threads;
+  tp.region = region.id;
+  // The tilt may change no faster than the tilt axis turns at kRotaryShare of its limit while the
+  // tip moves at the deposit feed.
+  tp.max_axis_turn_deg_per_mm = kRotaryShare * machine.feed.rotary_max_deg_min / 60.0 / process.deposit_feed_mm_s;
+  auto paths = toolpath::make_toolpaths(region.mesh, layers.value(), tp);
+  if (!paths) return paths.error();
+  if (auto s = guard_axes(plan, machine, options, region, layers.value(), paths.value()); !s) return s.error();
+  plan.times.toolpath_s += since(t0);
+  // Layers are numbered across regions, in build order.
+  const auto offset = static_cast<std::uint32_t>(plan.layers.layers.size());
+  for (slicing::Layer& l : layers.value().layers) {
+    l.index += offset;
+    plan.layers.layers.push_back(std::move(l));
+    plan.region_of_layer.push_back(region.id);
+  }
+  plan.layers.open_chains += layers.value().open_chains;
+  plan.layers.total_area_mm2 += layers.value().total_area_mm2;
+  plan.layers.volume_estimate_mm3 += layers.value().volume_estimate_mm3;
+  for (toolpath::LayerToolpaths& lt : paths.value()) {
+    lt.layer += offset;
+    for (toolpath::Path& path : lt.paths) path.layer += offset;
+    plan.toolpaths.push_back(std::move(lt));
+  }
+  return {};
+}
+
 }  // namespace
 
 Placement rotation_to_z(Vec3 d) {
@@ -334,58 +394,9 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   plan.regions = static_cast<std::uint32_t>(regions.size());
   plan.placed_regions = regions;
 
-  using Clock = std::chrono::steady_clock;
-  auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
   for (const PlanRegion& region : regions) {
-    auto t0 = Clock::now();
-    slicing::SliceOptions slice;
-    slice.direction = region.direction;
-    slice.layer_mm = process.layer_mm;
-    slice.threads = options.threads;
-    slice.adaptive = process.adaptive_layers && process.layer_min_mm < process.layer_max_mm;
-    if (slice.adaptive) {
-      slice.min_mm = process.layer_min_mm;
-      slice.max_mm = process.layer_max_mm;
-      slice.limits.cusp_mm = process.cusp_mm;
-      slice.limits.overhang_deg = process.self_supporting_deg;
-      if (options.tilt_on_overhang && machine::has_rotary_axes(machine.kind)) {
-        slice.limits.overhang_step_mm = process.max_step_bead_share * process.bead_width_mm;
-      }
-    }
     // The whole part's topology is valid only for the unsplit part.
-    auto layers = slicing::slice(region.mesh, slice, given_regions.empty() ? &part.topology : nullptr);
-    if (!layers) return layers.error();
-    plan.times.slice_s += since(t0);
-    t0 = Clock::now();
-    toolpath::ToolpathOptions tp;
-    tp.bead_width_mm = process.bead_width_mm;
-    tp.perimeters = options.perimeters;
-    tp.self_supporting_deg = process.self_supporting_deg;
-    tp.tilt_on_overhang = options.tilt_on_overhang && machine::has_rotary_axes(machine.kind);
-    tp.threads = options.threads;
-    tp.region = region.id;
-    // The tilt may change no faster than the tilt axis turns at kRotaryShare of its limit while the
-    // tip moves at the deposit feed.
-    tp.max_axis_turn_deg_per_mm = kRotaryShare * machine.feed.rotary_max_deg_min / 60.0 / process.deposit_feed_mm_s;
-    auto paths = toolpath::make_toolpaths(region.mesh, layers.value(), tp);
-    if (!paths) return paths.error();
-    if (auto s = guard_axes(plan, machine, options, region, layers.value(), paths.value()); !s) return s.error();
-    plan.times.toolpath_s += since(t0);
-    // Layers are numbered across regions, in build order.
-    const auto offset = static_cast<std::uint32_t>(plan.layers.layers.size());
-    for (slicing::Layer& l : layers.value().layers) {
-      l.index += offset;
-      plan.layers.layers.push_back(std::move(l));
-      plan.region_of_layer.push_back(region.id);
-    }
-    plan.layers.open_chains += layers.value().open_chains;
-    plan.layers.total_area_mm2 += layers.value().total_area_mm2;
-    plan.layers.volume_estimate_mm3 += layers.value().volume_estimate_mm3;
-    for (toolpath::LayerToolpaths& lt : paths.value()) {
-      lt.layer += offset;
-      for (toolpath::Path& path : lt.paths) path.layer += offset;
-      plan.toolpaths.push_back(std::move(lt));
-    }
+    if (auto st = add_region(plan, region, given_regions.empty() ? &part.topology : nullptr, machine, process, options); !st) return st.error();
   }
   if (plan.layers.layers.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: the part has no layers");
   auto t0 = Clock::now();

@@ -169,25 +169,33 @@ std::vector<std::vector<std::uint32_t>> interference(const std::vector<slicing::
 
 }  // namespace
 
-Sequence sequence_layers(const std::vector<slicing::Layer>& layers, const std::vector<std::uint32_t>& region_of_layer,
-                         const std::vector<PlanRegion>& regions, double head_radius_mm, bool interleave) {
-  const std::size_t n = layers.size();
-  Sequence out;
-  out.records.resize(n);
-  std::map<std::uint32_t, std::size_t> pos_of;
-  for (std::size_t i = 0; i < regions.size(); ++i) pos_of[regions[i].id] = i;
-  std::vector<std::size_t> region_pos(n);
-  std::vector<std::vector<std::uint32_t>> layers_of(regions.size());
-  for (std::size_t i = 0; i < n; ++i) {
-    region_pos[i] = pos_of.count(region_of_layer[i]) ? pos_of[region_of_layer[i]] : 0;
+namespace {
+
+// The layers of each region (by position in REGIONS) in layer order.
+struct RegionLayers {
+  std::map<std::uint32_t, std::size_t> pos_of;     // region id -> position in REGIONS
+  std::vector<std::size_t> region_pos;             // per layer
+  std::vector<std::vector<std::uint32_t>> layers;  // per region position
+};
+
+RegionLayers index_layers(const std::vector<std::uint32_t>& region_of_layer, const std::vector<PlanRegion>& regions, Sequence& out) {
+  RegionLayers rl;
+  for (std::size_t i = 0; i < regions.size(); ++i) rl.pos_of[regions[i].id] = i;
+  rl.region_pos.resize(region_of_layer.size());
+  rl.layers.resize(regions.size());
+  for (std::size_t i = 0; i < region_of_layer.size(); ++i) {
+    rl.region_pos[i] = rl.pos_of.count(region_of_layer[i]) ? rl.pos_of[region_of_layer[i]] : 0;
     out.records[i].region = region_of_layer[i];
-    out.records[i].region_layer = static_cast<std::uint32_t>(layers_of[region_pos[i]].size() + 1);
-    layers_of[region_pos[i]].push_back(static_cast<std::uint32_t>(i));
+    out.records[i].region_layer = static_cast<std::uint32_t>(rl.layers[rl.region_pos[i]].size() + 1);
+    rl.layers[rl.region_pos[i]].push_back(static_cast<std::uint32_t>(i));
   }
-  const auto with = interference(layers, region_pos, regions, head_radius_mm);
-  // Levels (Rule 2): regions in build order, layers in layer order.
-  std::vector<char> assigned(n, 0);
-  for (const auto& ids : layers_of) {
+  return rl;
+}
+
+// Levels (Rule 2): regions in build order, layers in layer order.
+void assign_levels(const RegionLayers& rl, const std::vector<std::vector<std::uint32_t>>& with, Sequence& out) {
+  std::vector<char> assigned(with.size(), 0);
+  for (const auto& ids : rl.layers) {
     std::uint32_t previous = 0;
     for (const std::uint32_t i : ids) {
       assigned[i] = 1;
@@ -203,48 +211,56 @@ Sequence sequence_layers(const std::vector<slicing::Layer>& layers, const std::v
       out.records[i].interferences = static_cast<std::uint32_t>(with[i].size());
     }
   }
-  // Order (Rules 3–4, father before child). Without interleaving every layer is taken as level 0.
+}
+
+// Order (Rules 3–4, children after what they rest on). Without INTERLEAVE every layer is taken as
+// level 0.
+void build_order(const RegionLayers& rl, const std::vector<PlanRegion>& regions, bool interleave, Sequence& out) {
+  const std::size_t n = out.records.size();
   auto level = [&](std::uint32_t i) { return interleave ? out.records[i].level : 0u; };
+  // The lowest level > 0 among each region's layers from position k on (0: none).
+  std::vector<std::vector<std::uint32_t>> lowest_from(regions.size());
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    lowest_from[r].assign(rl.layers[r].size() + 1, 0);
+    for (std::size_t k = rl.layers[r].size(); k-- > 0;) {
+      const std::uint32_t l = level(rl.layers[r][k]), after = lowest_from[r][k + 1];
+      lowest_from[r][k] = l == 0 ? after : (after == 0 ? l : std::min(l, after));
+    }
+  }
   std::vector<std::size_t> next(regions.size(), 0);
-  auto complete = [&](std::size_t r) { return next[r] == layers_of[r].size(); };
+  auto complete = [&](std::size_t r) { return next[r] == rl.layers[r].size(); };
   // A region is open once its father and every region its base rests on are complete.
   auto open = [&](std::size_t r) {
     if (complete(r)) return false;
     std::vector<std::uint32_t> below = regions[r].rests_on;
     if (regions[r].parent) below.push_back(*regions[r].parent);
-    return std::all_of(below.begin(), below.end(), [&](std::uint32_t b) { return !pos_of.count(b) || complete(pos_of[b]); });
+    return std::all_of(below.begin(), below.end(), [&](std::uint32_t b) { return !rl.pos_of.count(b) || complete(rl.pos_of.at(b)); });
   };
   std::optional<std::size_t> current;
   out.order.reserve(n);
   while (out.order.size() < n) {
     std::uint32_t pending = 0;  // the lowest level still to build among the open regions
     for (std::size_t r = 0; r < regions.size(); ++r) {
-      if (!open(r)) continue;
-      for (std::size_t k = next[r]; k < layers_of[r].size(); ++k) {
-        const std::uint32_t l = level(layers_of[r][k]);
-        if (l && (!pending || l < pending)) pending = l;
-      }
+      const std::uint32_t l = open(r) ? lowest_from[r][next[r]] : 0;
+      if (l && (!pending || l < pending)) pending = l;
     }
-    auto buildable = [&](std::size_t r) {
-      if (!open(r)) return false;
-      const std::uint32_t l = level(layers_of[r][next[r]]);
-      return l == 0 || l <= pending;
-    };
+    auto next_level = [&](std::size_t r) { return level(rl.layers[r][next[r]]); };
+    auto buildable = [&](std::size_t r) { return open(r) && (next_level(r) == 0 || next_level(r) <= pending); };
     std::optional<std::size_t> pick;
     const char* rule = kRuleLevel;
-    if (current && buildable(*current) && level(layers_of[*current][next[*current]]) == 0) {
+    if (current && buildable(*current) && next_level(*current) == 0) {
       pick = current, rule = kRuleContinue;
     } else {
       // The pending level first, in region order; then a region's layers that interfere with none.
       for (std::size_t r = 0; r < regions.size() && !pick; ++r) {
-        if (buildable(r) && level(layers_of[r][next[r]]) == pending) pick = r;
+        if (buildable(r) && next_level(r) == pending) pick = r;
       }
       for (std::size_t r = 0; r < regions.size() && !pick; ++r) {
         if (buildable(r)) pick = r;
       }
     }
     if (!pick) break;  // no open region: a region whose father is missing (cannot happen with a tree)
-    const std::uint32_t i = layers_of[*pick][next[*pick]];
+    const std::uint32_t i = rl.layers[*pick][next[*pick]];
     if (rule != kRuleContinue) {
       if (next[*pick] == 0) {
         rule = regions[*pick].parent ? kRuleFather : kRuleStart;
@@ -259,11 +275,22 @@ Sequence sequence_layers(const std::vector<slicing::Layer>& layers, const std::v
   }
   // A region left out (its father missing from REGIONS) goes last, in order.
   for (std::size_t r = 0; r < regions.size(); ++r) {
-    for (std::size_t k = next[r]; k < layers_of[r].size(); ++k) {
-      out.records[layers_of[r][k]].rule = kRuleContinue;
-      out.order.push_back(layers_of[r][k]);
+    for (std::size_t k = next[r]; k < rl.layers[r].size(); ++k) {
+      out.records[rl.layers[r][k]].rule = kRuleContinue;
+      out.order.push_back(rl.layers[r][k]);
     }
   }
+}
+
+}  // namespace
+
+Sequence sequence_layers(const std::vector<slicing::Layer>& layers, const std::vector<std::uint32_t>& region_of_layer,
+                         const std::vector<PlanRegion>& regions, double head_radius_mm, bool interleave) {
+  Sequence out;
+  out.records.resize(layers.size());
+  const RegionLayers rl = index_layers(region_of_layer, regions, out);
+  assign_levels(rl, interference(layers, rl.region_pos, regions, head_radius_mm), out);
+  build_order(rl, regions, interleave, out);
   return out;
 }
 
