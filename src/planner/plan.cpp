@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 
 #include "polyaxis/mesh/properties.h"
 #include "clearance.h"
@@ -277,6 +278,20 @@ void count_reorientations(Plan& plan) {
   }
 }
 
+// The program from the toolpaths as they stand (make_program), with C's unwind points and the
+// reorientations counted; the figures they give start from zero.
+void finish_program(Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanOptions& options,
+                    const verify::DepositCheck& deposit) {
+  plan.program.clear();
+  plan.deposit_length_mm = plan.travel_length_mm = plan.thin_area_mm2 = plan.max_tilt_deg = 0.0;
+  plan.thin_regions = plan.travel_detours = plan.reorientations = 0;
+  plan.reorientation_list.clear();
+  make_program(plan, machine, process, options, deposit);
+  if (plan.program.empty()) return;
+  plan.program = detail::insert_c_unwinds(plan.program, plan.layers.layers, machine);
+  count_reorientations(plan);
+}
+
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -412,12 +427,65 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   if (auto s = first_deposit_on_plate(plan, process); !s) return s.error();
   t0 = Clock::now();
 
-  make_program(plan, machine, process, options, deposit);
+  finish_program(plan, machine, process, options, deposit);
   if (plan.program.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: every layer is thinner than a bead");
-  plan.program = detail::insert_c_unwinds(plan.program, plan.layers.layers, machine);
-  count_reorientations(plan);
   plan.times.program_s = since(t0);
   return plan;
+}
+
+std::size_t relieve_collisions(Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                               const PlanOptions& options, const std::vector<std::pair<std::uint32_t, Vec3>>& places) {
+  // The points to turn: per place, the ends of the layer's move nearest the tip.
+  std::set<std::pair<std::uint32_t, std::uint32_t>> marked;
+  for (const auto& [layer, tip] : places) {
+    if (layer >= plan.toolpaths.size()) continue;
+    std::uint32_t flat = 0, best = 0;
+    double best_d = INFINITY;
+    const toolpath::PathPoint* previous = nullptr;
+    for (const toolpath::Path& path : plan.toolpaths[layer].paths) {
+      for (const toolpath::PathPoint& p : path.points) {
+        const Vec3 a = previous ? previous->position_mm : p.position_mm, ab = p.position_mm - a;
+        const double l2 = core::dot(ab, ab), u = l2 > 0.0 ? std::clamp(core::dot(tip - a, ab) / l2, 0.0, 1.0) : 0.0;
+        const double d = core::norm(a + ab * u - tip);
+        if (d < best_d) best_d = d, best = flat;
+        previous = &p, ++flat;
+      }
+    }
+    if (best_d == INFINITY) continue;
+    marked.insert({layer, best});
+    if (best > 0) marked.insert({layer, best - 1});
+  }
+  const double reach = detail::reach_rad(machine);
+  std::size_t turned = 0;
+  for (const auto& [layer, index] : marked) {
+    toolpath::PathPoint* p = nullptr;
+    std::uint32_t flat = 0;
+    for (toolpath::Path& path : plan.toolpaths[layer].paths) {
+      if (index < flat + path.points.size()) {
+        p = &path.points[index - flat];
+        break;
+      }
+      flat += static_cast<std::uint32_t>(path.points.size());
+    }
+    if (p == nullptr) continue;
+    const Vec3 n = plan.layers.layers[layer].frame.d, up{0, 0, 1};
+    const Vec3 candidates[] = {n, core::normalized(n + up), up};
+    for (std::uint32_t& step = plan.relieved[{layer, index}]; step < std::size(candidates);) {
+      Vec3 axis = candidates[step++];
+      if (core::dot(axis, n) < std::cos(toolpath::kMaxTiltRad) || core::norm(axis - core::normalized(p->tool_axis)) < 1e-3) continue;
+      if (!detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p->position_mm, n, axis)) continue;
+      p->tool_axis = axis;
+      ++turned, ++plan.tilts_eased, ++plan.toolpaths[layer].axes_eased;
+      break;
+    }
+  }
+  if (turned == 0) return 0;
+  plan.layer_reports.clear();
+  plan.unsupported_area_mm2 = 0.0;
+  detail::check_support(plan, process);
+  const verify::DepositCheck deposit(plan.build_model, detail::planned_points(plan), process.bead_width_mm);
+  finish_program(plan, machine, process, options, deposit);
+  return turned;
 }
 
 }  // namespace polyaxis::planner

@@ -34,6 +34,8 @@ bool supplied_by_plate(const analysis::Region& r, const analysis::Region& root, 
   return depth <= process.substrate.thickness_mm;
 }
 
+// Rounds of turning the torch where the program read back strikes earlier deposit.
+constexpr int kReliefRounds = 3;
 // Collisions named in a message, at most.
 constexpr std::size_t kNamedCollisions = 3;
 
@@ -249,6 +251,17 @@ core::Status program_of(const machine::MachineConfig& machine, const process::Pr
   return {};
 }
 
+// Where the program read back still strikes earlier deposit, the torch turns further there and
+// the program is made and read back again, at most kReliefRounds times.
+core::Status relieve(const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanPartOptions& options,
+                     PlanPartResult& out) {
+  for (int round = 0; round < kReliefRounds && out.check.material_collisions > 0; ++round) {
+    if (relieve_collisions(out.plan, machine, process, options.plan, out.check.collision_places) == 0) break;
+    if (auto s = program_of(machine, process, options, out); !s) return s;
+  }
+  return {};
+}
+
 }  // namespace
 
 const char* strategy_name(Strategy s) {
@@ -270,6 +283,7 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
   out.strategy_used = chosen.value().strategy;
   out.warnings = std::move(chosen.value().warnings);
   if (auto s = program_of(machine, process, options, out); !s) return s.error();
+  if (auto s = relieve(machine, process, options, out); !s) return s.error();
   const bool mid_air = !out.check.mid_air_regions.empty(), collides = out.check.collisions > 0;
   if (options.strategy == Strategy::kAuto && out.strategy_used == Strategy::kDecompose && (mid_air || collides)) {
     // Read back, a region of the decomposition starts in mid-air, or the head strikes something
@@ -279,7 +293,8 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
       PlanPartResult alt;
       alt.plan = std::move(single.value().plan);
       alt.strategy_used = Strategy::kSingle;
-      if (program_of(machine, process, options, alt) && alt.check.collisions == 0 && alt.check.mid_air_regions.empty()) {
+      if (program_of(machine, process, options, alt) && relieve(machine, process, options, alt) && alt.check.collisions == 0 &&
+          alt.check.mid_air_regions.empty()) {
         const std::string why = mid_air ? fmt::format("the decomposition's region {} starts in mid-air", out.check.mid_air_regions.front())
                                         : fmt::format("the decomposition's program strikes something at {} samples (the first: {})",
                                                       out.check.collisions, describe(out.check.collision_list.front()));

@@ -241,6 +241,10 @@ void check_material(const std::vector<HeadQuery>& samples, const std::vector<std
     if (!hits[k]) continue;
     ++out.material_collisions;
     out.worst_material_depth_mm = std::max(out.worst_material_depth_mm, hits[k]->depth_mm);
+    if (out.collision_places.size() < kMaxCollisionPlaces) {
+      const HeadQuery& at = samples[dense[k]];
+      out.collision_places.emplace_back(static_cast<std::uint32_t>(std::max(0, at.layer)), vec(at.tip));
+    }
     if (out.collision_list.size() >= kMaxListedCollisions) continue;
     const detail::MaterialSample& s = index.sample(hits[k]->sample);
     const HeadQuery& q = samples[dense[k]];

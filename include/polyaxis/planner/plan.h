@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -168,6 +169,9 @@ struct Plan {
   // travel moves that leave the straight line to clear it (planner/clearance.h).
   std::uint64_t tilts_eased = 0;
   std::uint64_t travel_detours = 0;
+  // Toolpath points turned after reading the program back (relieve_collisions), keyed by layer and
+  // point (flat within the layer), with how far along the candidates each went.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> relieved;
   double deposit_length_mm = 0.0;
   double travel_length_mm = 0.0;
   double unsupported_area_mm2 = 0.0;
@@ -183,6 +187,15 @@ struct Plan {
 inline constexpr double kReorientationDeg = 5.0;
 // Unsupported area below this is snapping noise, not an overhang.
 inline constexpr double kUnsupportedNoiseMm2 = 0.01;
+
+// Where the program, read back, still strikes earlier deposit (PLACES: each a layer and the tip,
+// verify::BuildCheck::collision_places), the torch at the layer's toolpath points nearest each
+// place (the move's two ends) turns further — first along the layer's normal, then half way and
+// all the way towards the table's normal within toolpath::kMaxTiltRad — keeping the plate, the
+// table and the reach clear; the support check and the program are then made again. Each call
+// takes every point one candidate further. Returns how many points turned (0: nothing left to try).
+std::size_t relieve_collisions(Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                               const PlanOptions& options, const std::vector<std::pair<std::uint32_t, Vec3>>& places);
 
 // A rule of the rule base (SPEC §2.9, Dwivedi §5–7): its id, what it says, and its parameters
 // (from the process and the machine files), as plan.json lists them.

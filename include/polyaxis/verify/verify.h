@@ -38,6 +38,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "polyaxis/core/result.h"
@@ -57,6 +58,7 @@ inline constexpr double kClearanceSlackMm = 1e-3;
 inline constexpr double kIgnoreBeads = 3.0;
 // At most this many collisions are listed; all are counted.
 inline constexpr std::size_t kMaxListedCollisions = 100;
+inline constexpr std::size_t kMaxCollisionPlaces = 20000;
 
 // The head striking something: the plate or the table (body "plate or table"), or material laid
 // earlier ("deposit of layer L region R").
@@ -87,6 +89,9 @@ struct BuildCheck {
   std::uint64_t material_checks = 0;       // samples checked against the material
   std::uint64_t collisions = 0;            // head_collisions + material_collisions
   std::vector<Collision> collision_list;   // the first kMaxListedCollisions, in program order
+  // Where the head struck earlier deposit (the layer and the tip), the first kMaxCollisionPlaces,
+  // for the planner to turn the torch there (planner::relieve_collisions).
+  std::vector<std::pair<std::uint32_t, core::Vec3>> collision_places;
   std::vector<std::string> first_problems; // up to 10, "line 120 (layer 3 region 0): ..."
 };
 
