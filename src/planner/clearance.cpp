@@ -14,6 +14,10 @@ constexpr double kTravelStepDeg = 2.0;
 // Distances tried out along the axes before crossing (mm), before the sphere.
 constexpr double kLiftsMm[] = {10.0, 25.0, 50.0, 100.0};
 constexpr double kPi = 3.14159265358979323846;
+// A move this short, turning this little, is cleared by one check with its length and turn as the
+// margin (a wider one would visit most of the deposit).
+constexpr double kBroadCheckMm = 5.0;
+constexpr double kBroadCheckRad = 5.0 * kPi / 180.0;
 
 bool clear_at(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
               double margin_mm, Vec3 tip, Vec3 axis) {
@@ -70,6 +74,31 @@ bool clear_turn_deposit(const verify::DepositCheck& deposit, std::size_t before,
   return true;
 }
 
+// True when some vertex of a region other than LAYER's own lies above LAYER's plane within REACH_MM
+// of its section (bounding circle): only there can a head along the layer's normal strike deposit.
+bool others_above(const Plan& plan, std::size_t layer, double reach_mm) {
+  const slicing::Layer& l = plan.layers.layers[layer];
+  double u0 = INFINITY, v0 = INFINITY, u1 = -INFINITY, v1 = -INFINITY;
+  for (const geom2d::Polygon& poly : l.polygons) {
+    for (const geom2d::Point& q : poly.outer) {
+      const double u = geom2d::to_mm(q.x), v = geom2d::to_mm(q.y);
+      u0 = std::min(u0, u), v0 = std::min(v0, v), u1 = std::max(u1, u), v1 = std::max(v1, v);
+    }
+  }
+  if (u0 > u1) return false;
+  const Vec3 centre = l.frame.to_world(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+  const double radius = 0.5 * std::hypot(u1 - u0, v1 - v0) + reach_mm;
+  for (const PlanRegion& r : plan.placed_regions) {
+    if (r.id == plan.region_of_layer[layer]) continue;
+    for (const Vec3& v : r.mesh.vertices) {
+      const Vec3 d = v - centre;
+      const double h = core::dot(d, l.frame.d);
+      if (h > 0.0 && core::norm(d - l.frame.d * h) <= radius) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<verify::PlannedPoint> planned_points(const Plan& plan) {
@@ -87,10 +116,13 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
   const double reach = reach_rad(machine), margin = kDepositMarginBeads * bead_mm;
   const double tilted_cos = std::cos(kTiltedDeg * kPi / 180.0);
   const std::uint32_t root = plan.placed_regions.empty() ? 0 : plan.placed_regions.front().id;
+  const machine::NozzleModel& nozzle = plan.build_model.nozzle;
+  const double head_reach = std::max(nozzle.cylinder_radius_mm, nozzle.cone_height_mm * std::tan(nozzle.tip_half_angle_deg * kPi / 180.0));
   std::size_t flat = 0;
   for (std::size_t k = 0; k < plan.toolpaths.size(); ++k) {
     const Vec3 n = plan.layers.layers[k].frame.d;
     const toolpath::PathPoint* previous = nullptr;  // the layer's point before, across its paths
+    const bool exposed = plan.region_of_layer[k] != root && others_above(plan, k, head_reach);
     for (toolpath::Path& path : plan.toolpaths[k].paths) {
       for (toolpath::PathPoint& p : path.points) {
         const std::size_t i = flat++;
@@ -103,15 +135,21 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
           if (deposit.strikes(p.position_mm, axis, i, margin)) return true;
           if (before == nullptr) return false;
           const Vec3 from = before->position_mm;
+          // Over the move no head point comes nearer than the move's length plus the turn times its
+          // distance from the tip: clear with that margin, the move is clear.
+          const double turn = std::acos(std::clamp(core::dot(core::normalized(before->tool_axis), core::normalized(axis)), -1.0, 1.0));
+          const double length = core::norm(p.position_mm - from);
+          if (length <= kBroadCheckMm && turn <= kBroadCheckRad && !deposit.strikes(p.position_mm, axis, i, margin + length, turn)) return false;
+          if (turn < 1e-6) return !clear_move_deposit(deposit, i, margin, from, axis, p.position_mm, axis);
           return !clear_move_deposit(deposit, i, margin, from, before->tool_axis, p.position_mm, axis) ||
                  !clear_move_deposit(deposit, i, margin, from, before->tool_axis, from, axis) ||
                  !clear_turn_deposit(deposit, i, margin, from, before->tool_axis, axis) ||
                  !clear_move_deposit(deposit, i, margin, from, axis, p.position_mm, axis);
         };
         // Along the layer's normal a planar layer's head stays above everything its own region
-        // laid before: only other regions' deposit can be struck there.
+        // laid before: only other regions' deposit above the layer's plane can be struck there.
         const bool tilted = core::dot(core::normalized(p.tool_axis), n) < tilted_cos;
-        if ((!tilted && plan.region_of_layer[k] == root) || !strikes(p.tool_axis)) continue;
+        if ((!tilted && !exposed) || !strikes(p.tool_axis)) continue;
         // Towards the layer's normal first, then towards the table's (within the torch's tilt limit).
         std::vector<Vec3> candidates;
         for (const double f : {0.25, 0.5, 0.75, 1.0}) {

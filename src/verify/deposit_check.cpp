@@ -47,9 +47,9 @@ DepositCheck::DepositCheck(const machine::BuildModel& model, const std::vector<P
 
 DepositCheck::~DepositCheck() = default;
 
-bool DepositCheck::strikes(core::Vec3 tip, core::Vec3 axis, std::size_t point, double margin_mm) const {
+bool DepositCheck::strikes(core::Vec3 tip, core::Vec3 axis, std::size_t point, double margin_mm, double turn_rad) const {
   const std::uint32_t before = point < impl_->before.size() ? impl_->before[point] : static_cast<std::uint32_t>(impl_->index.size());
-  return impl_->index.deepest(impl_->head, tip, core::normalized(axis), before, impl_->radius, impl_->ignore, margin_mm, 0.0).has_value();
+  return impl_->index.deepest(impl_->head, tip, core::normalized(axis), before, impl_->radius, impl_->ignore, margin_mm, turn_rad).has_value();
 }
 
 }  // namespace polyaxis::verify

@@ -28,9 +28,11 @@ class DepositCheck {
   DepositCheck(const DepositCheck&) = delete;
   DepositCheck& operator=(const DepositCheck&) = delete;
 
-  // True when the head at (TIP, AXIS) comes within MARGIN_MM of the deposit laid by the moves
-  // into the points before POINT (the material within kIgnoreBeads of the tip left out).
-  bool strikes(core::Vec3 tip, core::Vec3 axis, std::size_t point, double margin_mm) const;
+  // True when the head at (TIP, AXIS) comes within MARGIN_MM (plus TURN_RAD times a head point's
+  // distance from the tip) of the deposit laid by the moves into the points before POINT (the
+  // material within kIgnoreBeads of the tip left out). With the margin a move's length and the turn
+  // its axis's, false clears the whole move into (TIP, AXIS).
+  bool strikes(core::Vec3 tip, core::Vec3 axis, std::size_t point, double margin_mm, double turn_rad = 0.0) const;
 
  private:
   struct Impl;
