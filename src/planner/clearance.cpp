@@ -24,29 +24,34 @@ bool clear_at(const machine::BuildModel& model, const verify::DepositCheck& depo
   return machine::head_clearance_mm(model, tip, axis) >= clearance_mm && !deposit.strikes(tip, axis, before, margin_mm);
 }
 
-// Every sample of the move from (P, A) to (Q, B), tip straight and axis along the great circle.
-bool clear_move(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
-                double margin_mm, Vec3 p, Vec3 a, Vec3 q, Vec3 b) {
-  const double turn = std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kPi;
+// The angle between two axes (any length > 0), radians.
+double turn_rad(Vec3 a, Vec3 b) { return std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)); }
+
+// True when CLEAR holds at the samples K = FIRST … PIECES − 1 + LAST_TOO of the move from (P, A)
+// to (Q, B) in PIECES steps at most kTravelStepMm and kTravelStepDeg apart: the tip straight, the
+// axis along the great circle (false where opposite axes leave no such circle).
+template <typename Clear>
+bool clear_samples(Vec3 p, Vec3 a, Vec3 q, Vec3 b, int first, bool last_too, Clear clear) {
+  const double turn = turn_rad(a, b) * 180.0 / kPi;
   const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(q - p) / kTravelStepMm, turn / kTravelStepDeg))));
-  for (int k = 0; k <= pieces; ++k) {
+  for (int k = first; k < pieces + (last_too ? 1 : 0); ++k) {
     const double u = static_cast<double>(k) / pieces;
     const Vec3 axis = core::normalized(a * (1.0 - u) + b * u);
-    if (core::norm(axis) < 0.5) return false;  // opposite axes: no straight turn
-    if (!clear_at(model, deposit, before, clearance_mm, margin_mm, p + (q - p) * u, axis)) return false;
+    if (!(core::norm(axis) > 0.5) || !clear(p + (q - p) * u, axis)) return false;
   }
   return true;
 }
 
-// Samples of the move from (P, A) to (Q, B) strictly after P against the deposit only.
+// Every sample of the move from (P, A) to (Q, B), both ends included, against the plate, the table
+// and the deposit.
+bool clear_move(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
+                double margin_mm, Vec3 p, Vec3 a, Vec3 q, Vec3 b) {
+  return clear_samples(p, a, q, b, 0, true, [&](Vec3 tip, Vec3 axis) { return clear_at(model, deposit, before, clearance_mm, margin_mm, tip, axis); });
+}
+
+// The samples of the move from (P, A) to (Q, B) strictly between its ends against the deposit only.
 bool clear_move_deposit(const verify::DepositCheck& deposit, std::size_t before, double margin_mm, Vec3 p, Vec3 a, Vec3 q, Vec3 b) {
-  const double turn = std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kPi;
-  const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(q - p) / kTravelStepMm, turn / kTravelStepDeg))));
-  for (int k = 1; k < pieces; ++k) {
-    const double u = static_cast<double>(k) / pieces;
-    if (deposit.strikes(p + (q - p) * u, core::normalized(a * (1.0 - u) + b * u), before, margin_mm)) return false;
-  }
-  return true;
+  return clear_samples(p, a, q, b, 1, false, [&](Vec3 tip, Vec3 axis) { return !deposit.strikes(tip, axis, before, margin_mm); });
 }
 
 // The axis a turn in place passes through on a table-tilt machine: tilt from the table's normal
@@ -66,8 +71,7 @@ Vec3 joint_lerp(Vec3 a, Vec3 b, double u) {
 
 // The turn in place at P from axis A to B, as joints interpolate it, against the deposit only.
 bool clear_turn_deposit(const verify::DepositCheck& deposit, std::size_t before, double margin_mm, Vec3 p, Vec3 a, Vec3 b) {
-  const double turn = std::acos(std::clamp(core::dot(core::normalized(a), core::normalized(b)), -1.0, 1.0)) * 180.0 / kPi;
-  const int pieces = std::max(1, static_cast<int>(std::ceil(turn / kTravelStepDeg)) * 2);
+  const int pieces = std::max(1, static_cast<int>(std::ceil(turn_rad(a, b) * 180.0 / kPi / kTravelStepDeg)) * 2);
   for (int k = 1; k < pieces; ++k) {
     if (deposit.strikes(p, joint_lerp(a, b, static_cast<double>(k) / pieces), before, margin_mm)) return false;
   }
@@ -137,7 +141,7 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
           const Vec3 from = before->position_mm;
           // Over the move no head point comes nearer than the move's length plus the turn times its
           // distance from the tip: clear with that margin, the move is clear.
-          const double turn = std::acos(std::clamp(core::dot(core::normalized(before->tool_axis), core::normalized(axis)), -1.0, 1.0));
+          const double turn = turn_rad(before->tool_axis, axis);
           const double length = core::norm(p.position_mm - from);
           if (length <= kBroadCheckMm && turn <= kBroadCheckRad && !deposit.strikes(p.position_mm, axis, i, margin + length, turn)) return false;
           if (turn < 1e-6) return !clear_move_deposit(deposit, i, margin, from, axis, p.position_mm, axis);
