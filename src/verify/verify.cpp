@@ -339,8 +339,9 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
       q.gap_rad = static_cast<float>(std::acos(std::clamp(core::dot(tp.tool_axis_part, vec(p.axis)), -1.0, 1.0)));
     }
     since_coarse_mm += q.gap_mm, since_coarse_rad += q.gap_rad;
-    // Coarse samples: every kQueryBeads of travel or kQueryDeg of turn, and where a move ends.
-    if (coarse.empty() || !mv.from_known || last_of_move || since_coarse_mm >= kQueryBeads * process.bead_width_mm ||
+    // Coarse samples: every kQueryBeads of travel or kQueryDeg of turn along the motion (not at
+    // every move's end: the margins span the gaps whatever the moves), and the program's last.
+    if (coarse.empty() || !mv.from_known || since_coarse_mm >= kQueryBeads * process.bead_width_mm ||
         since_coarse_rad >= kQueryDeg * std::numbers::pi / 180.0) {
       coarse.push_back(static_cast<std::uint32_t>(head_samples.size()));
       since_coarse_mm = since_coarse_rad = 0.0;
@@ -396,6 +397,7 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
   bool end = false;
   if (auto st = detail::walk_gcode(m, gcode, &process, cb, &end); !st) return st.error();
   end_layer();
+  if (!head_samples.empty() && coarse.back() + 1 != head_samples.size()) coarse.push_back(static_cast<std::uint32_t>(head_samples.size() - 1));
   check_material(head_samples, coarse, std::move(material), model, process.bead_width_mm, out);
   if (out.material_collisions > 0) {
     const Collision& c = out.collision_list.front();
