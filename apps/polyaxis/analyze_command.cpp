@@ -116,11 +116,11 @@ Runner add_analyze_command(CLI::App& app) {
   add_root_base_option(*cmd, o->root_base);
   cmd->add_flag("--json", o->json, "Print analysis.json instead of one line");
   cmd->add_flag("!--no-skeleton", o->skeleton, "Skip the distance-field skeleton");
-  cmd->add_option("--voxel-mm", o->voxel_mm, "Skeleton grid resolution, mm (0: the part's size / 64)")->check(CLI::Range(0.0, 1000.0));
+  cmd->add_option("--voxel-mm", o->voxel_mm, "Skeleton grid resolution, mm (0: the part's size / 64)")->check(kFinite & CLI::Range(0.0, 1000.0));
   cmd->add_option("--self-supporting-deg", o->self_supporting_deg, "Self-supporting angle from vertical, degrees")
-      ->capture_default_str()->check(CLI::Range(0.0, 89.0));
+      ->capture_default_str()->check(kFinite & CLI::Range(0.0, 89.0));
   cmd->add_option("--break-angle-deg", o->break_angle_deg, "Centroidal-axis links turning more than this are break links")
-      ->capture_default_str()->check(CLI::Range(1.0, 179.0));
+      ->capture_default_str()->check(kFinite & CLI::Range(1.0, 179.0));
   return [o] { return run_analyze(*o); };
 }
 

@@ -109,7 +109,7 @@ Runner add_inspect_command(CLI::App& app) {
   add_part_options(*cmd, options->part);
   cmd->add_flag("--json", options->json, "Print one JSON object (schema: docs/inspect.md)");
   cmd->add_option("--self-supporting-deg", options->self_supporting_deg, "Self-supporting angle from vertical, degrees")
-      ->capture_default_str()->check(CLI::Range(0.0, 90.0));
+      ->capture_default_str()->check(kFinite & CLI::Range(0.0, 90.0));
   return [options] { return run_inspect(*options); };
 }
 

@@ -2,7 +2,9 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <vector>
 
@@ -15,6 +17,15 @@ namespace polyaxis::app {
 int report_error(const core::Error& error) {
   std::fprintf(stderr, "polyaxis: error: %s\n", error.message.c_str());
   return static_cast<int>(error.code);
+}
+
+// A command's exit code, or 6 when what it wrote to stdout did not all get there (a full disk, a
+// closed pipe: catalogue O5), so that `polyaxis inspect X --json >/dev/full` does not pass as done.
+int with_stdout_checked(int code) {
+  const bool failed = std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
+  if (!failed) return code;
+  std::fprintf(stderr, "polyaxis: error: writing to standard output failed: %s\n", std::strerror(errno));
+  return code != 0 ? code : static_cast<int>(core::ErrorCode::kOutput);
 }
 
 }  // namespace polyaxis::app
@@ -42,13 +53,14 @@ int main(int argc, char** argv) {
   }
   core::set_progress_mode(quiet ? core::ProgressMode::kQuiet : core::ProgressMode::kAuto);
   try {
-    if (app.got_subcommand("inspect")) return inspect();
-    if (app.got_subcommand("slice")) return slice();
-    if (app.got_subcommand("plan")) return plan();
-    if (app.got_subcommand("simulate")) return simulate();
-    if (app.got_subcommand("analyze")) return analyze();
-    if (app.got_subcommand("view")) return view();
-    if (app.got_subcommand("explain")) return explain();
+    using app::with_stdout_checked;
+    if (app.got_subcommand("inspect")) return with_stdout_checked(inspect());
+    if (app.got_subcommand("slice")) return with_stdout_checked(slice());
+    if (app.got_subcommand("plan")) return with_stdout_checked(plan());
+    if (app.got_subcommand("simulate")) return with_stdout_checked(simulate());
+    if (app.got_subcommand("analyze")) return with_stdout_checked(analyze());
+    if (app.got_subcommand("view")) return with_stdout_checked(view());
+    if (app.got_subcommand("explain")) return with_stdout_checked(explain());
     return 2;
   } catch (const core::InvariantError& e) {
     std::fprintf(stderr, "polyaxis: internal error: %s\n", e.what());

@@ -7,8 +7,6 @@
 
 namespace polyaxis::app {
 
-namespace {
-
 // CLI11's number checks let "nan" through (P5): refuse non-finite numbers here.
 const CLI::Validator kFinite(
     [](std::string& text) -> std::string {
@@ -33,6 +31,8 @@ const CLI::Validator kFinitePositive(
       return "must be a finite positive number, not '" + text + "'";
     },
     "POSITIVE");
+
+namespace {
 
 }  // namespace
 

@@ -10,6 +10,11 @@
 
 namespace polyaxis::app {
 
+// Every number option carries one of these (with its range): CLI11's own number checks let
+// "nan" and "inf" through (catalogue P5).
+extern const CLI::Validator kFinite;
+extern const CLI::Validator kFinitePositive;
+
 struct PartOptions {
   std::string path;
   double scale = 1.0;

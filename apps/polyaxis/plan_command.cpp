@@ -165,7 +165,7 @@ Runner add_plan_command(CLI::App& app) {
   add_root_base_option(*cmd, o->root_base);
   cmd->add_option("--perimeters", o->part_plan.plan.perimeters, "Perimeters per island")->capture_default_str()->check(CLI::Range(0, 100));
   cmd->add_option("--path-tolerance-mm", o->chordal_mm, "Largest tool-tip deviation from the path between G-code blocks, mm")
-      ->capture_default_str()->check(CLI::Range(1e-4, 1.0));
+      ->capture_default_str()->check(kFinite & CLI::Range(1e-4, 1.0));
   cmd->add_option("--threads", o->part_plan.plan.threads, "Worker threads (0: all cores)");
   cmd->add_flag("--allow-collisions", o->part_plan.allow_collisions,
                 "Write a plan whose program, read back, still strikes the plate, the table or the deposit (exit 0, with a warning)");

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "config_options.h"
+#include "part_options.h"
 #include "polyaxis/io/text_file.h"
 #include "polyaxis/verify/simulate.h"
 #include "polyaxis/report/plan_view.h"
@@ -76,7 +77,7 @@ Runner add_simulate_command(CLI::App& app) {
   cmd->add_option("--plan", o->plan_path, "plan.json of the same program: report the deviation from it");
   cmd->add_option("--path-tolerance-mm", o->path_tolerance_mm,
                   "A sample of the program this close to a planned segment lies on it (the plan's path tolerance), mm")
-      ->capture_default_str()->check(CLI::Range(1e-4, 1.0));
+      ->capture_default_str()->check(kFinite & CLI::Range(1e-4, 1.0));
   cmd->add_flag("--json", o->json, "Print one JSON object");
   return [o] { return run_simulate(*o); };
 }

@@ -134,12 +134,15 @@ Runner add_slice_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("slice", "Cut a part into planar layers along any direction");
   add_part_options(*cmd, o->part);
   cmd->add_option("--dir", o->dir, "Build direction X,Y,Z (any length)")->capture_default_str();
-  cmd->add_option("--layer", o->slice.layer_mm, "Uniform layer thickness, mm")->capture_default_str();
+  // Thicknesses: a micrometre to a metre (1e308 made no layer and exited 0).
+  const CLI::Validator thickness = kFinitePositive & CLI::Range(1e-3, 1000.0);
+  cmd->add_option("--layer", o->slice.layer_mm, "Uniform layer thickness, mm")->capture_default_str()->check(thickness);
   cmd->add_option("--adaptive", o->adaptive,
                   "Adaptive thickness under limits, e.g. cusp=0.05,voldiff=0.1,area=0.2,overhang=30 (mm, ratio, ratio, degrees)");
-  cmd->add_option("--min", o->slice.min_mm, "Adaptive: thinnest layer, mm")->capture_default_str();
-  cmd->add_option("--max", o->slice.max_mm, "Adaptive: thickest layer, mm")->capture_default_str();
-  cmd->add_option("--snap", o->slice.snap_mm, "Adaptive: thicknesses are multiples of this, mm (machine Z resolution)");
+  cmd->add_option("--min", o->slice.min_mm, "Adaptive: thinnest layer, mm")->capture_default_str()->check(thickness);
+  cmd->add_option("--max", o->slice.max_mm, "Adaptive: thickest layer, mm")->capture_default_str()->check(thickness);
+  cmd->add_option("--snap", o->slice.snap_mm, "Adaptive: thicknesses are multiples of this, mm (machine Z resolution)")
+      ->check(kFinite & CLI::Range(0.0, 1000.0));
   cmd->add_option("--thicknesses", o->thicknesses, "Adaptive: thicknesses to choose from, mm, e.g. 0.5,1,2 (a sheet stock)");
   cmd->add_option("-o,--out", o->out_dir, "Output directory for layers.json and SVGs")->capture_default_str();
   cmd->add_flag("--svg", o->svg, "Also write one SVG per layer");

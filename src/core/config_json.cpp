@@ -1,5 +1,6 @@
 #include "core/config_json.h"
 #include "polyaxis/core/config_document.h"
+#include "polyaxis/core/json_depth.h"
 
 #include <fmt/format.h>
 
@@ -122,6 +123,10 @@ core::Result<json> parse_document(std::string_view text, const std::string& sour
     }
     return true;
   };
+  if (const auto at = core::json_too_deep(text)) {
+    return core::make_error(core::ErrorCode::kUsage, fmt::format("{}: not valid JSON: nested deeper than {} levels at byte {}", source,
+                                                                 core::kMaxJsonDepth, *at));
+  }
   json doc;
   try {
     doc = json::parse(text.begin(), text.end(), track, /*allow_exceptions=*/true, /*ignore_comments=*/true);

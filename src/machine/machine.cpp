@@ -215,8 +215,13 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
   if (!r.check_object(f, "feed", {"linear_max_mm_min", "rotary_max_deg_min"})) return r.error();
   m.feed.linear_max_mm_min = r.number(f, "feed", "linear_max_mm_min", std::nullopt);
   m.feed.rotary_max_deg_min = r.number(f, "feed", "rotary_max_deg_min", five ? std::nullopt : std::optional<double>(1.0));
-  if (!r.failed() && m.feed.linear_max_mm_min <= 0.0) r.fail("'feed.linear_max_mm_min' must be > 0");
-  if (!r.failed() && m.feed.rotary_max_deg_min <= 0.0) r.fail("'feed.rotary_max_deg_min' must be > 0");
+  // A machine slower than 1 mm/min or 1°/min, or faster than 1 km/min or 10⁶ °/min, is a typo.
+  if (!r.failed() && !(m.feed.linear_max_mm_min >= 1.0 && m.feed.linear_max_mm_min <= 1e6)) {
+    r.fail(fmt::format("'feed.linear_max_mm_min' ({}) must be between 1 and 1e6 mm/min", m.feed.linear_max_mm_min));
+  }
+  if (!r.failed() && five && !(m.feed.rotary_max_deg_min >= 1.0 && m.feed.rotary_max_deg_min <= 1e6)) {
+    r.fail(fmt::format("'feed.rotary_max_deg_min' ({}) must be between 1 and 1e6 deg/min", m.feed.rotary_max_deg_min));
+  }
 
   if (r.has(root, "nozzle")) {
     const json& n = root.at("nozzle");

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <regex>
+#include <sstream>
 
 #include "core/config_json.h"
 
@@ -38,6 +39,39 @@ constexpr std::string_view kDefaultProcess = R"({
 bool is_plain_block(const std::string& s) {
   static const std::regex kBlock(R"(^[A-Z][-+]?[0-9]+(\.[0-9]+)?( [A-Z][-+]?[0-9]+(\.[0-9]+)?)*$)");
   return std::regex_match(s, kBlock);
+}
+
+// What a process switch may not contain: only M-codes with their P, Q, E and S words and a G4
+// dwell switch a process; motion, feed, other G-codes and the program stops (M0, M1, M2, M30,
+// M60) or a tool change (M6) would move the machine or end the program behind the planner's
+// back. Empty when BLOCK (a plain block) is a switch.
+std::string switch_problem(const std::string& block) {
+  std::istringstream words(block);
+  std::string w;
+  bool dwell = false, has_p = false;
+  while (words >> w) {
+    const char letter = w[0];
+    const double v = std::stod(w.substr(1));
+    switch (letter) {
+      case 'M':
+        if (v == 0 || v == 1 || v == 2 || v == 30 || v == 60) return fmt::format("'{}' stops or ends the program", w);
+        if (v == 6) return fmt::format("'{}' changes the tool", w);
+        break;
+      case 'G':
+        if (v != 4) return fmt::format("'{}' is not a dwell (G4): a process switch may not move the machine", w);
+        dwell = true;
+        break;
+      case 'P': has_p = true; [[fallthrough]];
+      case 'Q':
+      case 'E':
+      case 'S':
+        if (v < 0) return fmt::format("'{}' is negative", w);
+        break;
+      default: return fmt::format("'{}': a process switch holds M-codes with P, Q, E, S words and G4 dwells only", w);
+    }
+  }
+  if (dwell && !has_p) return "G4 needs its P word (seconds)";
+  return {};
 }
 
 }  // namespace
@@ -112,14 +146,20 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   if (!(p.self_supporting_deg > 0.0 && p.self_supporting_deg < 90.0)) {
     r.fail(fmt::format("'self_supporting_deg' ({}) must be between 0 and 90 (exclusive)", p.self_supporting_deg));
   }
-  if (p.deposit_feed_mm_s <= 0.0) r.fail(fmt::format("'deposit_feed_mm_s' ({}) must be > 0", p.deposit_feed_mm_s));
-  if (p.travel_feed_mm_s <= 0.0) r.fail(fmt::format("'travel_feed_mm_s' ({}) must be > 0", p.travel_feed_mm_s));
+  for (const auto& [key, v] : {std::pair<std::string_view, double>{"deposit_feed_mm_s", p.deposit_feed_mm_s},
+                               {"travel_feed_mm_s", p.travel_feed_mm_s}}) {
+    if (!(v >= kMinFeedMmS && v <= kMaxFeedMmS)) {
+      r.fail(fmt::format("'{}' ({}) must be between {} and {} mm/s", key, v, kMinFeedMmS, kMaxFeedMmS));
+    }
+  }
   if (p.dwell_on_s < 0.0) r.fail(fmt::format("'dwell_on_s' ({}) must be ≥ 0", p.dwell_on_s));
   for (const auto& [key, v] : {std::pair<std::string_view, const std::string&>{"process_on", p.process_on},
                                {"process_off", p.process_off}}) {
     if (!is_plain_block(v)) {
       r.fail(fmt::format("'{}' (\"{}\") must be upper-case G-code words separated by single spaces, e.g. \"M64 P0\"",
                          key, v));
+    } else if (const std::string why = switch_problem(v); !why.empty()) {
+      r.fail(fmt::format("'{}' (\"{}\"): {}", key, v, why));
     }
   }
   if (p.process_on == p.process_off) r.fail("'process_on' and 'process_off' must differ");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "polyaxis/core/json_depth.h"
 #include "polyaxis/report/plan_view.h"
 
 namespace polyaxis::report {
@@ -104,10 +105,17 @@ std::vector<post::ProgramPoint> program_rows(const Json& rows) {
   return program;
 }
 
+void too_deep(std::string_view json) {
+  if (const auto at = core::json_too_deep(json)) {
+    throw std::runtime_error(fmt::format("nested deeper than {} levels at byte {}", core::kMaxJsonDepth, *at));
+  }
+}
+
 }  // namespace
 
 core::Result<std::vector<post::ProgramPoint>> read_plan_program(std::string_view json, const std::string& source) {
   try {
+    too_deep(json);
     return program_rows(Json::parse(json).at("program"));
   } catch (const std::exception& e) {
     return core::make_error(core::ErrorCode::kInvalidInput, fmt::format("{}: not a polyaxis plan: {}", source, e.what()));
@@ -117,6 +125,7 @@ core::Result<std::vector<post::ProgramPoint>> read_plan_program(std::string_view
 core::Result<PlanView> read_plan_view(std::string_view json, const std::string& source) {
   PlanView view;
   try {
+    too_deep(json);
     const Json doc = Json::parse(json);
     if (doc.value("format", std::string()) != "polyaxis-plan/1") throw std::runtime_error("\"format\" is not \"polyaxis-plan/1\"");
     view.part = doc.at("part").get<std::string>();

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include "support/cli.h"
 #include "support/meshes.h"
@@ -378,6 +379,74 @@ TEST_F(Catalogue, UsageErrorsExitTwo) {
   EXPECT_EQ(run_cli("inspect x.stl --scale nan").exit_code, 2);
   EXPECT_EQ(run_cli("inspect x.stl --merge-mm nan").exit_code, 2);
   EXPECT_EQ(run_cli("inspect x.stl --chordal-mm 1e999").exit_code, 2);
+}
+
+// P5 for every number option: CLI11's own checks let "nan" and "inf" through.
+TEST_F(Catalogue, P5_NonFiniteOptionsExitTwo) {
+  const std::string part = file("cube.stl", binary_stl(cube()));
+  for (const std::string& args : std::vector<std::string>{"inspect " + part + " --self-supporting-deg nan", "analyze " + part + " --voxel-mm nan",
+                                 "analyze " + part + " --break-angle-deg inf", "analyze " + part + " --self-supporting-deg nan",
+                                 "slice " + part + " --layer nan", "slice " + part + " --layer 1e308", "slice " + part + " --min inf",
+                                 "plan " + part + " --path-tolerance-mm nan", std::string("simulate x.ngc --path-tolerance-mm nan")}) {
+    const CliRun run = run_cli(args);
+    EXPECT_EQ(run.exit_code, 2) << args << ": " << run.err;
+  }
+}
+
+// P7: JSON nested 60 000 deep crashed the parser (signal 11); now refused before parsing, as a
+// config file (2) or as a plan (3).
+TEST_F(Catalogue, P7_DeeplyNestedJson) {
+  const std::string part = file("cube.stl", binary_stl(cube()));
+  const std::string deep = file("deep.json", "{\"name\":" + std::string(60000, '[') + std::string(60000, ']') + "}");
+  const std::string out = "'" + (dir_ / "out").string() + "'";
+  for (const std::string& args : std::vector<std::string>{"plan " + part + " -o " + out + " --machine " + deep, "plan " + part + " -o " + out + " --process " + deep,
+                                 "simulate x.ngc --machine " + deep}) {
+    const CliRun run = run_cli(args);
+    EXPECT_EQ(run.exit_code, 2) << args << ": " << run.err;
+    EXPECT_TRUE(contains(run.err, "nested deeper than")) << run.err;
+  }
+  for (const std::string& args : std::vector<std::string>{"view " + deep + " -o " + out + ".html", "explain " + deep + " --layer 1"}) {
+    const CliRun run = run_cli(args);
+    EXPECT_EQ(run.exit_code, 3) << args << ": " << run.err;
+    EXPECT_TRUE(contains(run.err, "nested deeper than")) << run.err;
+  }
+  // Nesting a config's usual depth is still read.
+  EXPECT_EQ(run_cli("plan " + part + " -o " + out + " --no-html --strategy single --set 'process.rules.interleave=false'").exit_code, 0);
+}
+
+// P8: a process switch holds M-codes (with P, Q, E, S words) and G4 dwells only; absurd feeds
+// are refused, naming the key, rather than failing later with 1 or writing F0.000000000060.
+TEST_F(Catalogue, P8_ProcessSwitchesAndFeeds) {
+  const std::string part = file("cube.stl", binary_stl(cube()));
+  const std::string out = " -o '" + (dir_ / "out").string() + "' --no-html --strategy single";
+  for (const std::string& set : std::vector<std::string>{"process.process_on=M64 P0 G0 Z-150", "process.process_on=M2", "process.process_off=M30",
+                                "process.process_on=M64 P0 F-5", "process.process_on=G4", "process.process_on=M64 P-1"}) {
+    const CliRun run = run_cli("plan " + part + out + " --set '" + set + "'");
+    EXPECT_EQ(run.exit_code, 2) << set << ": " << run.err;
+    EXPECT_TRUE(contains(run.err, "process_o")) << run.err;
+  }
+  for (const std::string& set : std::vector<std::string>{"process.deposit_feed_mm_s=1e-14", "process.deposit_feed_mm_s=1e-12", "process.travel_feed_mm_s=1e6",
+                                "machine.feed.linear_max_mm_min=1e-300", "machine.feed.rotary_max_deg_min=1e-9"}) {
+    const CliRun run = run_cli("plan " + part + out + " --set '" + set + "'");
+    EXPECT_EQ(run.exit_code, 2) << set << ": " << run.err;
+    EXPECT_TRUE(contains(run.err, set.substr(set.find('.') + 1, set.find('=') - set.find('.') - 1))) << run.err;
+  }
+  for (const std::string& set : std::vector<std::string>{"process.process_on=M3 S1000", "process.process_on=M64 P0 G4 P0.5"}) {
+    const CliRun run = run_cli("plan " + part + out + " --set '" + set + "'");
+    EXPECT_EQ(run.exit_code, 0) << set << ": " << run.err;
+  }
+}
+
+// O5: what a command prints must reach stdout; a full device is an output failure (6), not 0.
+TEST_F(Catalogue, O5_StdoutWriteErrorsExitSix) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const std::string part = file("cube.stl", binary_stl(cube()));
+  for (const std::string& args : std::vector<std::string>{"inspect " + part + " --json", "inspect " + part, "analyze " + part + " --json --no-skeleton"}) {
+    const std::string cmd = std::string("'") + POLYAXIS_CLI + "' " + args + " >/dev/full 2>/dev/null";
+    const int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << args;
+    EXPECT_EQ(WEXITSTATUS(status), 6) << args;
+  }
 }
 
 }  // namespace

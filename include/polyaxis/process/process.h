@@ -49,11 +49,17 @@ struct ProcessConfig {
 // A layer higher than this fraction of the bead width cannot be deposited as one bead (P2).
 inline constexpr double kMaxLayerToBeadRatio = 0.8;
 
+// Feeds outside this range (mm/s) are refused as absurd: 1e-12 mm/s wrote F0.000000000060.
+inline constexpr double kMinFeedMmS = 0.01;
+inline constexpr double kMaxFeedMmS = 10000.0;
+
 // Parses a process file (JSON, comments allowed). kUsage naming the key for: unknown or duplicate
 // keys (P6), non-finite numbers (P5), a layer height ≤ 0 (P1) or > 0.8·bead_width_mm (P2),
-// layer_min_mm > layer_mm or layer_mm > layer_max_mm naming both keys (P3), feeds ≤ 0, a
-// self-supporting angle outside (0°, 90°), a negative dwell, and process codes that are not plain
-// G-code words (`M64 P0`, `M3 S1000`). Cost: linear in size.
+// layer_min_mm > layer_mm or layer_mm > layer_max_mm naming both keys (P3), feeds outside
+// [kMinFeedMmS, kMaxFeedMmS], a self-supporting angle outside (0°, 90°), a negative dwell, and
+// process codes that are not plain G-code words (`M64 P0`, `M3 S1000`) or hold more than a
+// process switch needs (motion, feed, other G-codes than a G4 dwell, program stops: P7).
+// Cost: linear in size.
 core::Result<ProcessConfig> parse_process(std::string_view json, const std::string& source);
 
 // The embedded default process (ded_steel), same text as examples/processes/ded_steel.json.
