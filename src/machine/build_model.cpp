@@ -31,7 +31,8 @@ BuildModel make_build_model(const MachineConfig& machine, const process::Process
   m.nozzle = machine.nozzle;
   m.head_boxes = machine.head_boxes;
   m.table_radius_mm = machine.table.radius_mm;
-  m.table_centre_mm = {machine.pivot.x_rot_point_mm, machine.pivot.y_rot_point_mm, 0.0};
+  m.table_centre_mm = has_rotary_axes(machine.kind) ? Vec3{machine.pivot.x_rot_point_mm, machine.pivot.y_rot_point_mm, 0.0}
+                                                    : work_centre_mm(machine);
   const auto& s = process.substrate;
   const double cx = (x0 + x1) * 0.5, cy = (y0 + y1) * 0.5;
   const double hx = s.size_x_mm > 0.0 ? s.size_x_mm * 0.5 : (x1 - x0) * 0.5 + s.margin_mm;

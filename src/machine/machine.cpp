@@ -101,6 +101,11 @@ char tilt_axis_letter(Kinematics kind) {
 
 std::string_view default_machine_json() { return kDefaultMachine; }
 
+core::Vec3 work_centre_mm(const MachineConfig& machine) {
+  if (has_rotary_axes(machine.kind)) return {};
+  return {0.5 * (machine.x_mm.min + machine.x_mm.max), 0.5 * (machine.y_mm.min + machine.y_mm.max), 0.0};
+}
+
 bool unwinds_c(const MachineConfig& m) { return has_rotary_axes(m.kind) && (!m.c_continuous || m.c_unwind); }
 
 double unwound_c_deg(const MachineConfig& m, double c_deg, double sweep_min_deg, double sweep_max_deg) {

@@ -380,7 +380,8 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   }
   const Vec3 d = core::normalized(given_regions.empty() ? options.direction : given_regions.front().direction);
   // Placement: the build direction turned to the table's +Z, the first region's base on the
-  // plate's top (Z = 0), the footprint centred on the rotary axis.
+  // plate's top (Z = 0), the footprint centred on the machine's work centre (the rotary axis, or
+  // the middle of a 3-axis machine's travel).
   plan.placement = rotation_to_z(d);
   double lowest = INFINITY;
   core::Box3 box;
@@ -388,7 +389,8 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   for (const Vec3& v : given_regions.empty() ? part.mesh.vertices : given_regions.front().mesh.vertices) {
     lowest = std::min(lowest, plan.placement.rotate(v).z);
   }
-  plan.placement.translation_mm = {-(box.min.x + box.max.x) * 0.5, -(box.min.y + box.max.y) * 0.5, -lowest};
+  const Vec3 centre = machine::work_centre_mm(machine);
+  plan.placement.translation_mm = {centre.x - (box.min.x + box.max.x) * 0.5, centre.y - (box.min.y + box.max.y) * 0.5, -lowest};
   std::vector<PlanRegion> regions = given_regions;
   if (regions.empty()) {
     PlanRegion whole;

@@ -282,12 +282,14 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
   out.axis = std::move(chosen.value().axis);
   out.strategy_used = chosen.value().strategy;
   out.warnings = std::move(chosen.value().warnings);
-  if (auto s = program_of(machine, process, options, out); !s) return s.error();
-  if (auto s = relieve(machine, process, options, out); !s) return s.error();
-  const bool mid_air = !out.check.mid_air_regions.empty(), collides = out.check.collisions > 0;
-  if (options.strategy == Strategy::kAuto && out.strategy_used == Strategy::kDecompose && (mid_air || collides)) {
-    // Read back, a region of the decomposition starts in mid-air, or the head strikes something
-    // no order or tilt could avoid: one direction instead, when that one reads back clean.
+  core::Status made = program_of(machine, process, options, out);
+  if (made) made = relieve(machine, process, options, out);
+  const bool mid_air = made && !out.check.mid_air_regions.empty(), collides = made && out.check.collisions > 0;
+  if (options.strategy == Strategy::kAuto && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
+    // The decomposition's program cannot be written (a limit of the machine that only shows in
+    // the program, such as C winding past its end stops on a tilted region), or, read back, a
+    // region starts in mid-air, or the head strikes something no order or tilt could avoid: one
+    // direction instead, when that one reads back clean.
     auto single = plan_single(part, machine, process, options);
     if (single) {
       PlanPartResult alt;
@@ -295,15 +297,19 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
       alt.strategy_used = Strategy::kSingle;
       if (program_of(machine, process, options, alt) && relieve(machine, process, options, alt) && alt.check.collisions == 0 &&
           alt.check.mid_air_regions.empty()) {
-        const std::string why = mid_air ? fmt::format("the decomposition's region {} starts in mid-air", out.check.mid_air_regions.front())
-                                        : fmt::format("the decomposition's program strikes something at {} samples (the first: {})",
-                                                      out.check.collisions, describe(out.check.collision_list.front()));
-        alt.choice = fmt::format("one build direction ({:.1f} mm2 unsupported): read back, {}", alt.plan.unsupported_area_mm2, why);
-        alt.warnings = {fmt::format("one build direction was chosen because, read back, {}", why)};
+        const std::string why =
+            !made     ? fmt::format("the decomposition's program cannot be written: {}", made.error().message)
+            : mid_air ? fmt::format("read back, the decomposition's region {} starts in mid-air", out.check.mid_air_regions.front())
+                      : fmt::format("read back, the decomposition's program strikes something at {} samples (the first: {})", out.check.collisions,
+                                    describe(out.check.collision_list.front()));
+        alt.choice = fmt::format("one build direction ({:.1f} mm2 unsupported): {}", alt.plan.unsupported_area_mm2, why);
+        alt.warnings = {fmt::format("one build direction was chosen because {}", why)};
         out = std::move(alt);
+        made = {};
       }
     }
   }
+  if (!made) return made.error();
   const Plan& plan = out.plan;
   if (plan.thin_regions > 0) {
     out.warnings.push_back(fmt::format("{} regions thinner than a bead ({:.1f} mm2) get no path; see plan.json", plan.thin_regions,

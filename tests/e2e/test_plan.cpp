@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <filesystem>
@@ -150,6 +151,49 @@ TEST_P(PlanPart, DefaultsGiveCodeAControllerAcceptsAndTheSimulationConfirms) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Parts, PlanPart,
+                         testing::Values("cyl_walls5", "dome_sphere", "hinge", "impeller", "l_block", "pen_rack", "spiral", "two_branches"));
+
+// Every machine file shipped in examples/machines plans every reference part (the default
+// machine's own file is PlanPart's): the program stays in the machine's limits and on the plan
+// when read back through that machine's kinematics, and the head strikes nothing. gantry3's
+// travel starts at 0, so a part is centred in the travel (machine::work_centre_mm).
+class PlanOnShippedMachines : public testing::TestWithParam<const char*> {};
+
+TEST_P(PlanOnShippedMachines, EveryMachineFilePlansThePart) {
+  const std::string name = GetParam();
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/" + name + ".stl";
+  const std::filesystem::path machines = std::filesystem::path(POLYAXIS_PARTS_DIR).parent_path() / "machines";
+  auto fallback = machine::parse_machine(machine::default_machine_json(), "default");
+  ASSERT_TRUE(fallback.ok());
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(machines)) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  ASSERT_GE(files.size(), 3u);
+  for (const auto& file : files) {
+    auto m = machine::parse_machine(slurp(file), file.string());
+    ASSERT_TRUE(m.ok()) << file;
+    if (m.value().name == fallback.value().name) continue;
+    TempDir dir;
+    const auto plan = run_cli("plan '" + part + "' -o '" + dir.path().string() + "' --no-html --machine '" + file.string() + "'");
+    ASSERT_EQ(plan.exit_code, 0) << file << ": " << plan.err;
+    const auto report = read_json(dir / "report.json");
+    EXPECT_EQ(report["collisions"].get<int>(), 0) << file << report["collision_list"];
+    EXPECT_TRUE(report["build_check"]["mid_air_regions"].empty()) << file;
+    const auto ngc = dir / (name + ".ngc");
+    const auto sim = run_cli("simulate '" + ngc.string() + "' --machine '" + file.string() + "' --plan '" + (dir / "plan.json").string() +
+                             "' --json");
+    ASSERT_EQ(sim.exit_code, 0) << file << ": " << sim.err;
+    const auto j = nlohmann::json::parse(sim.out);
+    EXPECT_EQ(j["limit_violations"].get<int>(), 0) << file;
+    EXPECT_LE(j["max_tip_deviation_mm"].get<double>(), 0.01) << file;
+    const std::string rs274 = rs274_path();
+    if (rs274.empty()) continue;
+    const int status = std::system(("'" + rs274 + "' -g '" + ngc.string() + "' '" + (dir / "canon.txt").string() + "' >/dev/null 2>&1 </dev/null").c_str());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rs274 refused " << ngc << " for " << file;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Parts, PlanOnShippedMachines,
                          testing::Values("cyl_walls5", "dome_sphere", "hinge", "impeller", "l_block", "pen_rack", "spiral", "two_branches"));
 
 TEST(PlanImpeller, TiltedTorchMakesTheBladeTipsSupportFree) {  // Kapil's comparison

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "polyaxis/core/result.h"
+#include "polyaxis/core/vec3.h"
 
 namespace polyaxis::machine {
 
@@ -93,6 +94,11 @@ struct MachineConfig {
 // True when the program should unwind C: a 5-axis machine whose C has end stops, or whose
 // continuous C asks for it (limits.c.unwind).
 bool unwinds_c(const MachineConfig& machine);
+
+// Where a part's footprint is centred and the table is, in program coordinates (x, y; z = 0): on a
+// table-table machine the rotary table's axis, X = Y = 0 of the part frame; on a 3-axis machine,
+// whose limits need not contain 0 (a gantry's run from 0 to 1200), the middle of the X and Y travel.
+core::Vec3 work_centre_mm(const MachineConfig& machine);
 
 // The C (degrees) that an unwind turns to from C_DEG, when C will then sweep over
 // [C + SWEEP_MIN_DEG, C + SWEEP_MAX_DEG] until the next unwind: C_DEG plus whole turns, chosen so
