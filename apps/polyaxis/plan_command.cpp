@@ -13,6 +13,7 @@
 #include "part_options.h"
 #include "root_base_option.h"
 #include "polyaxis/core/progress.h"
+#include "polyaxis/io/output_set.h"
 #include "polyaxis/io/write_file.h"
 #include "polyaxis/post/gcode.h"
 #include "polyaxis/planner/plan_part.h"
@@ -59,6 +60,24 @@ core::Status parse_direction(const std::string& text, core::Vec3& out) {
   return {};
 }
 
+// The output set's id: a hash of the program and the report (without the id), so that identical
+// runs give identical files and any two different sets differ.
+std::string set_id(std::string_view gcode, std::string_view report) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a, 64 bits
+  for (const std::string_view part : {gcode, report}) {
+    for (const char c : part) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+// GCODE with the set id in its first comment, `(polyaxis: …)` → `(polyaxis: …, set ID)`: the
+// line count stays, so the lines the report names are unchanged.
+std::string with_set_id(const std::string& gcode, const std::string& id) {
+  const std::size_t eol = gcode.find('\n');
+  if (eol == std::string::npos || eol == 0 || gcode[eol - 1] != ')' || gcode[0] != '(') return "(polyaxis set " + id + ")\n" + gcode;
+  return gcode.substr(0, eol - 1) + ", set " + id + gcode.substr(eol - 1);
+}
+
 int run_plan(PlanCommandOptions& o) {
   planner::PlanPartOptions& opt = o.part_plan;
   if (auto s = parse_direction(o.dir, opt.direction); !s) return report_error(s.error());
@@ -95,40 +114,43 @@ int run_plan(PlanCommandOptions& o) {
   for (const std::string& w : job.warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
   const std::optional<analysis::CentroidalAxis>& axis_shown = job.axis;
 
-  std::error_code ec;
-  std::filesystem::create_directories(o.out_dir, ec);
-  if (ec) return report_error(core::make_error(core::ErrorCode::kOutput, fmt::format("{}: cannot create: {}", o.out_dir, ec.message())));
+  auto set = io::OutputSet::open(o.out_dir);
+  if (!set) return report_error(set.error());
   const std::string stem = std::filesystem::path(o.part.path).stem().string();
   report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc", loaded.value().read_s, loaded.value().repair_s,
-                        job.gcode_s, job.simulate_s, job.verify_s, "", ""};
+                        job.gcode_s, job.simulate_s, job.verify_s, "", "", ""};
   meta.strategy = planner::strategy_name(job.strategy_used);
   meta.choice = job.choice;
-  if (auto s = post::save_gcode(o.out_dir + "/" + stem + ".ngc", job.gcode); !s) return report_error(s.error());
+  meta.set_id = set_id(job.gcode, report::report_json(plan, job.simulation, meta, &job.check));
+  const std::string gcode = with_set_id(job.gcode, meta.set_id);
   const std::string report_text = report::report_json(plan, job.simulation, meta, &job.check);
-  const std::size_t files = 2 + (o.html ? 1 : 0) + (o.svg ? plan.layers.layers.size() : 0);
+  const std::size_t files = 4 + (o.html ? 1 : 0) + (o.svg ? plan.layers.layers.size() : 0);
   core::Progress progress("writing", files);
   std::size_t written = 0;
+  auto add = [&](const std::string& name, std::string_view bytes, io::Durability durability) {
+    auto s = set.value().add(name, bytes, durability);
+    if (s) progress.update(++written);
+    return s;
+  };
   const report::PlanView view =
       report::make_plan_view(plan, machine, process, axis_shown ? &*axis_shown : nullptr, o.part.path, report_text, &job.check);
-  if (auto s = io::write_file_atomic(o.out_dir + "/plan.json", report::plan_view_json(view), io::Durability::kAtomic); !s) {
-    return report_error(s.error());
-  }
-  progress.update(++written);
-  if (auto s = io::write_file_atomic(o.out_dir + "/report.json", report_text, io::Durability::kAtomic); !s) return report_error(s.error());
-  progress.update(++written);
+  if (auto s = add("plan.json", report::plan_view_json(view), io::Durability::kAtomic); !s) return report_error(s.error());
+  if (auto s = add("report.json", report_text, io::Durability::kAtomic); !s) return report_error(s.error());
+  if (auto s = add("timings.json", report::timings_json(plan, meta), io::Durability::kAtomic); !s) return report_error(s.error());
   if (o.html) {
-    const std::string html = report::report_html(view, report::viewer_bundle());
-    if (auto s = io::write_file_atomic(o.out_dir + "/report.html", html, io::Durability::kAtomic); !s) return report_error(s.error());
-    progress.update(++written);
+    if (auto s = add("report.html", report::report_html(view, report::viewer_bundle()), io::Durability::kAtomic); !s) return report_error(s.error());
   }
   if (o.svg) {
     for (std::size_t k = 0; k < plan.layers.layers.size(); ++k) {
-      const std::string name = fmt::format("{}/layer_{:05d}.svg", o.out_dir, plan.layers.layers[k].index);
-      const std::string text = report::layer_svg(plan.layers.layers[k], &plan.toolpaths[k]);
-      if (auto s = io::write_file_atomic(name, text, io::Durability::kAtomic); !s) return report_error(s.error());
-      progress.update(++written);
+      const std::string name = fmt::format("layer_{:05d}.svg", plan.layers.layers[k].index);
+      if (auto s = add(name, report::layer_svg(plan.layers.layers[k], &plan.toolpaths[k]), io::Durability::kAtomic); !s) {
+        return report_error(s.error());
+      }
     }
   }
+  // The machine program last: moved into place after everything it belongs with.
+  if (auto s = add(stem + ".ngc", gcode, io::Durability::kSynced); !s) return report_error(s.error());
+  if (auto s = set.value().commit(); !s) return report_error(s.error());
   if (warnings > 0) std::fprintf(stderr, "polyaxis: %zu warnings\n", warnings);
   if (o.json) {
     std::fputs(report_text.c_str(), stdout);

@@ -14,6 +14,10 @@ namespace polyaxis::io {
 
 core::Status write_file_atomic(const std::string& path, std::string_view bytes, Durability durability) {
   const std::filesystem::path target(path);
+  // A FIFO, a device or a directory at PATH is not replaced by a regular file (O5).
+  if (struct stat st {}; ::lstat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    return core::make_error(core::ErrorCode::kOutput, fmt::format("{}: exists and is not a regular file; not replaced", path));
+  }
   std::string tmpl = (target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path()).string() + "/." +
                      target.filename().string() + ".tmp-XXXXXX";
   const int fd = mkostemp(tmpl.data(), O_CLOEXEC);

@@ -23,6 +23,7 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
   j["layers"] = plan.layers.layers.size();
   j["regions"] = plan.regions;
   if (!meta.strategy.empty()) j["strategy"] = meta.strategy, j["strategy_reason"] = meta.choice;
+  if (!meta.set_id.empty()) j["set_id"] = meta.set_id;
   // Lengths of the tip's path over the part in the program read back (sim): all of it, with the
   // process on, and with it off (travel, approach, retract and transit moves).
   j["path_length_mm"] = sim.path_length_mm;
@@ -77,14 +78,20 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
                     {"y_mm", {plan.build_model.substrate.y_min_mm, plan.build_model.substrate.y_max_mm}},
                     {"top_z_mm", plan.build_model.substrate.top_z_mm},
                     {"thickness_mm", plan.build_model.substrate.thickness_mm}};
-  j["timings_s"] = {{"read", meta.read_s},           {"repair", meta.repair_s},         {"slice", plan.times.slice_s},
-                    {"toolpath", plan.times.toolpath_s}, {"program", plan.times.program_s}, {"support", plan.times.support_s},
-                    {"gcode", meta.gcode_s},           {"simulate", meta.simulate_s}, {"verify", meta.verify_s}};
   j["axis_ranges"] = {{"x", {sim.x_mm.min, sim.x_mm.max}},
                       {"y", {sim.y_mm.min, sim.y_mm.max}},
                       {"z", {sim.z_mm.min, sim.z_mm.max}},
                       {"tilt", {sim.a_or_b_deg.empty() ? 0.0 : sim.a_or_b_deg.min, sim.a_or_b_deg.empty() ? 0.0 : sim.a_or_b_deg.max}},
                       {"c", {sim.c_deg.empty() ? 0.0 : sim.c_deg.min, sim.c_deg.empty() ? 0.0 : sim.c_deg.max}}};
+  return j.dump(2) + "\n";
+}
+
+std::string timings_json(const planner::Plan& plan, const PlanMeta& meta) {
+  nlohmann::ordered_json j;
+  if (!meta.set_id.empty()) j["set_id"] = meta.set_id;
+  j["timings_s"] = {{"read", meta.read_s},           {"repair", meta.repair_s},         {"slice", plan.times.slice_s},
+                    {"toolpath", plan.times.toolpath_s}, {"program", plan.times.program_s}, {"support", plan.times.support_s},
+                    {"gcode", meta.gcode_s},           {"simulate", meta.simulate_s}, {"verify", meta.verify_s}};
   return j.dump(2) + "\n";
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <regex>
 #include <vector>
 
 #include "support/cli.h"
@@ -447,6 +448,74 @@ TEST_F(Catalogue, O5_StdoutWriteErrorsExitSix) {
     ASSERT_TRUE(WIFEXITED(status)) << args;
     EXPECT_EQ(WEXITSTATUS(status), 6) << args;
   }
+}
+
+// The set id a plan's files carry: report.json's, plan.json's report's, and the G-code's first line's.
+struct SetIds {
+  std::string report, plan, gcode;
+};
+SetIds set_ids(const std::filesystem::path& dir, const std::string& stem) {
+  SetIds ids;
+  const std::string report = slurp(dir / "report.json"), plan = slurp(dir / "plan.json"), gcode = slurp(dir / (stem + ".ngc"));
+  std::smatch m;
+  if (std::regex_search(report, m, std::regex(R"re("set_id": *"([0-9a-f]+)")re"))) ids.report = m[1];
+  if (std::regex_search(plan, m, std::regex(R"re("set_id": *"([0-9a-f]+)")re"))) ids.plan = m[1];
+  const std::string first_line = gcode.substr(0, gcode.find('\n'));
+  if (std::regex_search(first_line, m, std::regex(R"(set ([0-9a-f]+)\))"))) ids.gcode = m[1];
+  return ids;
+}
+
+// O9: a run that fails leaves nothing under the final names (a directory named report.html made
+// plan exit 6 with a whole .ngc, plan.json and report.json beside it).
+TEST_F(Catalogue, O9_FailedRunLeavesNoOutput) {
+  const std::string part = file("cube.stl", binary_stl(cube()));
+  const auto out = dir_ / "out";
+  std::filesystem::create_directories(out / "report.html");
+  const CliRun run = run_cli("plan " + part + " -o '" + out.string() + "'");
+  EXPECT_EQ(run.exit_code, 6) << run.err;
+  for (const char* name : {"cube.ngc", "plan.json", "report.json"}) EXPECT_FALSE(std::filesystem::exists(out / name)) << name;
+  for (const auto& e : std::filesystem::directory_iterator(out)) {
+    EXPECT_TRUE(e.path().filename() == "report.html" || e.path().filename() == ".polyaxis.lock") << e.path();
+  }
+}
+
+// O9: the files of one plan carry one set id; two runs into one directory at once leave one
+// run's set, never a mix (2 in 10 tries mixed before the lock); a killed run's leftovers are
+// removed by the next run.
+TEST_F(Catalogue, O9_OutputIsOneSet) {
+  const std::string part = file("cube.stl", binary_stl(cube(20.0)));
+  const auto out = dir_ / "out";
+  std::filesystem::create_directories(out / ".polyaxis-run-999999999-0");  // no such process
+  write_file(out / ".polyaxis-run-999999999-0" / "cube.ngc", "G0 X0\n");
+  const std::string cli = std::string("'") + POLYAXIS_CLI + "' plan " + part + " -o '" + out.string() + "' --no-html -q";
+  for (int round = 0; round < 6; ++round) {
+    // Two different plans (tilted torch and not) at once, into the same directory.
+    const std::string both = "(" + cli + " & " + cli + " --no-tilt --strategy single & wait) >/dev/null 2>&1";
+    ASSERT_EQ(std::system(both.c_str()), 0);
+    const SetIds ids = set_ids(out, "cube");
+    ASSERT_FALSE(ids.report.empty());
+    EXPECT_EQ(ids.report, ids.plan) << "round " << round;
+    EXPECT_EQ(ids.report, ids.gcode) << "round " << round;
+  }
+  for (const auto& e : std::filesystem::directory_iterator(out)) {
+    EXPECT_EQ(e.path().filename().string().rfind(".polyaxis-run-", 0), std::string::npos) << e.path();
+  }
+  // The same run twice gives the same bytes, the id included.
+  const std::string once = slurp(out / "cube.ngc");
+  ASSERT_EQ(std::system((cli + " >/dev/null 2>&1").c_str()), 0);
+  EXPECT_EQ(slurp(out / "cube.ngc"), once);
+}
+
+// O10: an output path that is a FIFO or a device is refused (6), not replaced by a regular file.
+TEST_F(Catalogue, O10_NonRegularOutputRefused) {
+  const std::string part = file("cube.stl", binary_stl(cube()));
+  const auto out = dir_ / "out";
+  ASSERT_EQ(run_cli("plan " + part + " -o '" + out.string() + "' --no-html").exit_code, 0);
+  const auto fifo = dir_ / "fifo";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0644), 0);
+  const CliRun run = run_cli("view '" + (out / "plan.json").string() + "' -o '" + fifo.string() + "'");
+  EXPECT_EQ(run.exit_code, 6) << run.err;
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
 }
 
 }  // namespace

@@ -15,7 +15,8 @@ enum class Durability {
 
 // Writes BYTES to a temporary file beside PATH and renames it over PATH (after an fsync when
 // kSynced). On any failure the temporary file is removed and PATH is untouched: Error kOutput
-// naming the path.
+// naming the path. An existing PATH that is not a regular file (a FIFO, a device, a directory)
+// is refused, not replaced.
 core::Status write_file_atomic(const std::string& path, std::string_view bytes, Durability durability = Durability::kSynced);
 
 }  // namespace polyaxis::io

@@ -23,12 +23,21 @@ struct PlanMeta {
   double read_s = 0.0, repair_s = 0.0, gcode_s = 0.0, simulate_s = 0.0, verify_s = 0.0;
   std::string strategy;  // "single" or "decompose": what plan_part chose
   std::string choice;    // and why
+  // The output set's id (io/output_set.h): the same in every file of one plan (report.json,
+  // plan.json's report, report.html, the G-code's first comment), so that files of two runs are
+  // told apart. Empty: not written.
+  std::string set_id;
 };
 
 // report.json: the metrics of SPEC §3 (schema in docs/plan.md). SIM is the simulation of the
 // written G-code (build time and path length come from it).
 // CHECK, when given, is the program verified against the build model (verify/verify.h).
+// Timings are not in it (timings_json): two identical runs give identical report.json bytes.
 std::string report_json(const planner::Plan& plan, const verify::SimulationReport& sim, const PlanMeta& meta,
                         const verify::BuildCheck* check = nullptr);
+
+// timings.json: the set id and the wall-clock seconds of each stage (`timings_s`: read, repair,
+// slice, toolpath, program, support, gcode, simulate, verify).
+std::string timings_json(const planner::Plan& plan, const PlanMeta& meta);
 
 }  // namespace polyaxis::report
