@@ -45,9 +45,11 @@ void add_part_options(CLI::App& command, PartOptions& options) {
   command.add_option("--max-hole-edges", options.repair.max_hole_edges, "Fill holes with at most this many edges")
       ->capture_default_str();
   command.add_flag("--allow-open", options.repair.allow_open, "Keep larger holes open instead of refusing the part");
-  command.add_flag("--strict", options.repair.strict, "Refuse self-intersecting parts and dropped 3MF triangles");
+  CLI::Option* strict =
+      command.add_flag("--strict", options.repair.strict, "Refuse self-intersecting parts and dropped 3MF triangles (runs the self-intersection check)");
   command.add_flag("!--no-self-intersections", options.repair.check_self_intersections,
-                   "Skip the self-intersection check (the slowest part of repair)");
+                   "Skip the self-intersection check (the slowest part of repair)")
+      ->excludes(strict);
   command.add_option("--max-triangles", options.read.max_triangles, "Refuse files with more triangles than this")
       ->capture_default_str()->check(CLI::PositiveNumber);
   command.add_option("--chordal-mm", options.read.chordal_mm, "STEP/IGES tessellation: largest chord deviation, mm")
@@ -68,7 +70,10 @@ core::Result<LoadedPart> load_part(const PartOptions& options) {
     for (auto& p : result.mesh.points) p = p * options.scale;
   }
   const auto t1 = std::chrono::steady_clock::now();
-  auto repaired = mesh::repair(std::move(result.mesh), options.repair);
+  mesh::RepairOptions repair = options.repair;
+  // --strict refuses self-intersections, so it needs them found, whatever the command's default.
+  if (repair.strict) repair.check_self_intersections = true;
+  auto repaired = mesh::repair(std::move(result.mesh), repair);
   if (!repaired) {
     core::Error e = repaired.error();
     e.message = fmt::format("{}: {}", options.path, e.message);

@@ -39,6 +39,7 @@ struct PlanCommandOptions {
   bool svg = false;
   bool html = true;
   double chordal_mm = 0.01;
+  std::uint64_t max_output_bytes = 0;  // 0: no cap
 };
 
 core::Status parse_direction(const std::string& text, core::Vec3& out) {
@@ -83,6 +84,7 @@ int run_plan(PlanCommandOptions& o) {
   if (auto s = parse_direction(o.dir, opt.direction); !s) return report_error(s.error());
   opt.plan.tilt_on_overhang = !o.no_tilt;
   opt.gcode.chordal_mm = o.chordal_mm;
+  opt.gcode.max_output_bytes = o.max_output_bytes;
   if (o.decompose) {
     if (o.strategy != "auto" && o.strategy != "decompose") {
       return report_error(core::make_error(core::ErrorCode::kUsage, "--decompose is --strategy decompose; it contradicts --strategy " + o.strategy));
@@ -127,7 +129,14 @@ int run_plan(PlanCommandOptions& o) {
   const std::size_t files = 4 + (o.html ? 1 : 0) + (o.svg ? plan.layers.layers.size() : 0);
   core::Progress progress("writing", files);
   std::size_t written = 0;
-  auto add = [&](const std::string& name, std::string_view bytes, io::Durability durability) {
+  std::uint64_t total = 0;
+  auto add = [&](const std::string& name, std::string_view bytes, io::Durability durability) -> core::Status {
+    total += bytes.size();
+    if (o.max_output_bytes != 0 && total > o.max_output_bytes) {
+      return core::make_error(core::ErrorCode::kOutput, fmt::format("{}/{}: the output exceeds --max-output-bytes {} ({} bytes so far); "
+                                                                    "nothing of this run was written",
+                                                                    o.out_dir, name, o.max_output_bytes, total));
+    }
     auto s = set.value().add(name, bytes, durability);
     if (s) progress.update(++written);
     return s;
@@ -189,6 +198,9 @@ Runner add_plan_command(CLI::App& app) {
   cmd->add_option("--path-tolerance-mm", o->chordal_mm, "Largest tool-tip deviation from the path between G-code blocks, mm")
       ->capture_default_str()->check(kFinite & CLI::Range(1e-4, 1.0));
   cmd->add_option("--threads", o->part_plan.plan.threads, "Worker threads (0: all cores)");
+  cmd->add_option("--max-output-bytes", o->max_output_bytes,
+                  "Refuse (exit 6, nothing written) when the files of the plan would exceed this many bytes (0: no cap)")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e18));
   cmd->add_flag("--allow-collisions", o->part_plan.allow_collisions,
                 "Write a plan whose program, read back, still strikes the plate, the table or the deposit (exit 0, with a warning)");
   cmd->add_flag("--json", o->json, "Print report.json instead of one line");

@@ -344,6 +344,14 @@ TEST_F(Catalogue, T6_SelfIntersections) {
   EXPECT_TRUE(contains(r.err, "self-intersecting faces")) << r.err;
   r = inspect(p, "--strict");
   EXPECT_EQ(r.exit_code, 4);
+  // Every command that reads a part honours --strict (plan, slice and analyze skipped the check).
+  const std::string out = " -o '" + (dir_ / "out").string() + "'";
+  for (const std::string& cmd : std::vector<std::string>{"plan " + p + out + " --no-html", "slice " + p + out, "analyze " + p + out}) {
+    r = run_cli(cmd + " --strict");
+    EXPECT_EQ(r.exit_code, 4) << cmd << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, "self-intersect")) << cmd << ": " << r.err;
+  }
+  EXPECT_EQ(run_cli("plan " + p + out + " --strict --no-self-intersections").exit_code, 2);
 }
 
 TEST_F(Catalogue, T7_DisjointShells) {
@@ -504,6 +512,21 @@ TEST_F(Catalogue, O9_OutputIsOneSet) {
   const std::string once = slurp(out / "cube.ngc");
   ASSERT_EQ(std::system((cli + " >/dev/null 2>&1").c_str()), 0);
   EXPECT_EQ(slurp(out / "cube.ngc"), once);
+}
+
+// O5: --max-output-bytes caps what a plan writes: over it, 6 and nothing under the final names.
+TEST_F(Catalogue, O5_MaxOutputBytes) {
+  const std::string part = file("cube.stl", binary_stl(cube(20.0)));
+  const auto out = dir_ / "out";
+  for (const std::string cap : {"1000", "100000"}) {  // inside the G-code (72 kB), and past it (plan.json)
+    const CliRun run = run_cli("plan " + part + " -o '" + out.string() + "' --max-output-bytes " + cap);
+    EXPECT_EQ(run.exit_code, 6) << cap << ": " << run.err;
+    EXPECT_FALSE(std::filesystem::exists(out / "cube.ngc")) << cap;
+    EXPECT_FALSE(std::filesystem::exists(out / "plan.json")) << cap;
+  }
+  EXPECT_EQ(run_cli("plan " + part + " -o '" + out.string() + "' --max-output-bytes -5").exit_code, 2);
+  EXPECT_EQ(run_cli("plan " + part + " -o '" + out.string() + "' --no-html --max-output-bytes 100000000").exit_code, 0);
+  EXPECT_TRUE(std::filesystem::exists(out / "cube.ngc"));
 }
 
 // O10: an output path that is a FIFO or a device is refused (6), not replaced by a regular file.
