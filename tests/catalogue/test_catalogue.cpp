@@ -509,9 +509,12 @@ TEST_F(Catalogue, O9_OutputIsOneSet) {
     EXPECT_EQ(e.path().filename().string().rfind(".polyaxis-run-", 0), std::string::npos) << e.path();
   }
   // The same run twice gives the same bytes, the id included.
-  const std::string once = slurp(out / "cube.ngc");
   ASSERT_EQ(std::system((cli + " >/dev/null 2>&1").c_str()), 0);
-  EXPECT_EQ(slurp(out / "cube.ngc"), once);
+  const std::string gcode = slurp(out / "cube.ngc"), report = slurp(out / "report.json"), plan = slurp(out / "plan.json");
+  ASSERT_EQ(std::system((cli + " >/dev/null 2>&1").c_str()), 0);
+  EXPECT_TRUE(slurp(out / "cube.ngc") == gcode);
+  EXPECT_TRUE(slurp(out / "report.json") == report);
+  EXPECT_TRUE(slurp(out / "plan.json") == plan);
 }
 
 // O5: --max-output-bytes caps what a plan writes: over it, 6 and nothing under the final names.
