@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <bit>
 #include <charconv>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 
@@ -44,20 +45,29 @@ bool binary_size_matches(std::size_t size) {
   return size >= kHeaderBytes && (size - kHeaderBytes) % kRecordBytes == 0;
 }
 
+bool equals_nocase(std::string_view a, std::string_view b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+           return (x | 0x20) == (y | 0x20);
+         });
+}
+
 // The body is ASCII STL if, after an optional BOM and whitespace, it says "solid" and the 4 kB
 // after the name line hold no NUL (binary floats nearly always do) up to "endsolid", and "facet"
-// or "endsolid" appears there.
+// or "endsolid" appears there. Keywords in any case ("SOLID", as some exporters write them; an
+// upper-case file was read as a binary header claiming 538976266 triangles).
 bool looks_ascii(std::string_view data) {
   if (data.starts_with(kBom)) data.remove_prefix(kBom.size());
   const auto first = data.find_first_not_of(" \t\r\n");
   if (first == std::string_view::npos) return false;
   data.remove_prefix(first);
-  if (!data.starts_with("solid")) return false;
+  if (data.size() < 5 || !equals_nocase(data.substr(0, 5), "solid")) return false;
   // The name after "solid" is opaque (it may hold any byte, F9): judge the text after it.
   const auto eol = data.find('\n');
   if (eol == std::string_view::npos) return data.size() < 1024;  // "solid name" alone: an empty ASCII file
   data.remove_prefix(eol + 1);
-  std::string_view head = data.substr(0, 4096);
+  std::string lowered(data.substr(0, 4096));
+  for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::string_view head = lowered;
   const auto end = head.find("endsolid");  // its name is opaque too
   if (end != std::string_view::npos) head = head.substr(0, end);
   if (head.find('\0') != std::string_view::npos) return false;
@@ -144,12 +154,6 @@ bool parse_double(std::string_view word, double& out) {
   if (!word.empty() && word.front() == '+') word.remove_prefix(1);
   const auto [ptr, ec] = std::from_chars(word.data(), word.data() + word.size(), out);
   return ec == std::errc() && ptr == word.data() + word.size();
-}
-
-bool equals_nocase(std::string_view a, std::string_view b) {
-  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-           return (x | 0x20) == (y | 0x20);
-         });
 }
 
 core::Result<ReadResult> read_ascii(std::string_view data, const std::string& name, const ReadOptions& options,

@@ -209,7 +209,7 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
   }
   const Plan& p = best->plan;
   why = fmt::format("{} ({} region{}, {}{})", best_label, p.regions, p.regions == 1 ? "" : "s",
-                    p.unsupported_area_mm2 == 0.0 ? std::string("support-free") : fmt::format("{:.1f} mm2 unsupported", p.unsupported_area_mm2),
+                    p.unsupported_area_mm2 == 0.0 ? std::string("support-free") : fmt::format("{} mm2 unsupported", area_text(p.unsupported_area_mm2)),
                     refused.empty() ? "" : fmt::format("; refused: {}", fmt::join(refused, "; ")));
   return std::move(*best);
 }
@@ -264,6 +264,11 @@ core::Status relieve(const machine::MachineConfig& machine, const process::Proce
 
 }  // namespace
 
+std::string area_text(double mm2) {
+  if (mm2 == 0.0 || std::abs(mm2) >= 0.1) return fmt::format("{:.1f}", mm2);
+  return fmt::format("{:.2g}", mm2);
+}
+
 const char* strategy_name(Strategy s) {
   switch (s) {
     case Strategy::kSingle: return "single";
@@ -302,7 +307,7 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
             : mid_air ? fmt::format("read back, the decomposition's region {} starts in mid-air", out.check.mid_air_regions.front())
                       : fmt::format("read back, the decomposition's program strikes something at {} samples (the first: {})", out.check.collisions,
                                     describe(out.check.collision_list.front()));
-        alt.choice = fmt::format("one build direction ({:.1f} mm2 unsupported): {}", alt.plan.unsupported_area_mm2, why);
+        alt.choice = fmt::format("one build direction ({} mm2 unsupported): {}", area_text(alt.plan.unsupported_area_mm2), why);
         alt.warnings = {fmt::format("one build direction was chosen because {}", why)};
         out = std::move(alt);
         made = {};
@@ -316,8 +321,8 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
                                        plan.thin_area_mm2));
   }
   if (plan.unsupported_area_mm2 > 0.0) {
-    out.warnings.push_back(fmt::format("the plan is not support-free: {:.1f} mm2 unsupported (report.html shows the pieces in red)",
-                                       plan.unsupported_area_mm2));
+    out.warnings.push_back(fmt::format("the plan is not support-free: {} mm2 unsupported (report.html shows the pieces in red)",
+                                       area_text(plan.unsupported_area_mm2)));
   }
   if (out.check.collisions > 0 && !out.check.collision_list.empty()) {
     std::string first;

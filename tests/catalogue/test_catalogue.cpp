@@ -77,6 +77,12 @@ TEST_F(Catalogue, F5_SolidHeaderBinaryBodyAndCutAscii) {
   r = inspect(file("cut_ascii.stl", text));
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_TRUE(contains(r.err, "line ")) << r.err;
+  // Keywords in upper case are ASCII STL too (read as a binary header "claiming 538976266 triangles").
+  std::string upper = ascii_stl(cube());
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  r = inspect(file("upper.stl", upper));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "\"triangles\": 12")) << r.out;
 }
 
 TEST_F(Catalogue, F6_NonFiniteVertexOrNormal) {

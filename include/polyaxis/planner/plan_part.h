@@ -71,4 +71,7 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
 // "single", "decompose", "auto".
 const char* strategy_name(Strategy s);
 
+// An area in mm² for messages, with enough digits that a non-zero one never reads 0.0 ("0.011").
+std::string area_text(double mm2);
+
 }  // namespace polyaxis::planner

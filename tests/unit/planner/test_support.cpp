@@ -10,6 +10,7 @@
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
+#include "polyaxis/planner/plan_part.h"
 #include "polyaxis/planner/plan.h"
 #include "support/meshes.h"
 #include "support/repaired.h"
@@ -130,6 +131,21 @@ TEST(SupportCheck, ARoundBarBentThrough110DegreesIsNotSupportFreeOnPlanarLayers)
   auto plan = make_plan(gentle, machine.value(), process.value(), PlanOptions{});
   ASSERT_TRUE(plan.ok()) << plan.error().message;
   EXPECT_EQ(plan.value().unsupported_area_mm2, 0.0);
+}
+
+}  // namespace
+}  // namespace polyaxis::planner
+
+namespace polyaxis::planner {
+namespace {
+
+// A summary said "NOT support-free (unsupported 0.0 mm2)" for 0.011 mm² (issue 14).
+TEST(AreaText, ANonZeroAreaNeverReadsZero) {
+  EXPECT_EQ(area_text(0.0), "0.0");
+  EXPECT_EQ(area_text(0.011), "0.011");
+  EXPECT_EQ(area_text(0.00042), "0.00042");
+  EXPECT_EQ(area_text(248.44), "248.4");
+  EXPECT_EQ(area_text(0.1), "0.1");
 }
 
 }  // namespace
