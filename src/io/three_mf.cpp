@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -374,6 +375,22 @@ class TagScanner {
   std::size_t pos_ = 0;
 };
 
+// A vertex coordinate (3MF ST_Number: an optional sign, digits, an optional fraction and
+// exponent); none when TEXT is missing, empty, not a number or not finite. lib3mf reads "abc" and
+// "" as 0 with a warning, which changes the part (a cube of 8000 mm³ came out 5333).
+std::optional<double> parse_coordinate(std::optional<std::string_view> text) {
+  if (!text) return std::nullopt;
+  std::string_view s = *text;
+  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
+  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  if (s.empty() || !(std::isdigit(static_cast<unsigned char>(s.front())) || s.front() == '-' || s.front() == '.')) return std::nullopt;
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+  if (ec != std::errc() || ptr != s.data() + s.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
 std::optional<std::uint64_t> parse_index(std::optional<std::string_view> text) {
   if (!text) return std::nullopt;
   std::string_view s = *text;
@@ -540,6 +557,12 @@ core::Status scan_model_part(ModelPart& part, const std::string& name, const Rea
         }
       }
     } else if (tag.name == vertex_name) {
+      for (const char* axis : {"x", "y", "z"}) {
+        if (!parse_coordinate(tag.attribute(axis))) {
+          return invalid(fmt::format("{}: {}: object {}, vertex {}: coordinate {}=\"{:.40}\" is not a finite number", name, part.path,
+                                     object_id, vertex_count, axis, std::string(tag.attribute(axis).value_or("(missing)"))));
+        }
+      }
       ++vertex_count;
     } else if (tag.name == triangle_name) {
       if (++totals.triangle_elements > options.max_triangles) {

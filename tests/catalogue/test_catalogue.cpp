@@ -250,6 +250,19 @@ TEST_F(Catalogue, F15_ThreeMf) {
   EXPECT_EQ(r.exit_code, 3) << r.err;
   r = inspect(file("notzip.3mf", "this is not a zip archive at all"));
   EXPECT_EQ(r.exit_code, 3) << r.err;
+  // A coordinate that is not a number was read as 0 with a warning (a different part): 3, naming
+  // the vertex. Signs, fractions and exponents are numbers.
+  for (const std::string bad : {R"(x="abc")", R"(x="")", R"(x="nan")", R"(x="1e999")", R"(x="1,5")"}) {
+    std::string xml = model_xml(kTetra);
+    xml.replace(xml.find(R"(x="10")"), 6, bad);
+    r = inspect(file("coord.3mf", make_zip({{"[Content_Types].xml", kContentTypes}, {"_rels/.rels", kRels}, {"3D/3dmodel.model", xml}})));
+    EXPECT_EQ(r.exit_code, 3) << bad << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, "vertex 1")) << r.err;
+  }
+  std::string xml = model_xml(kTetra);
+  xml.replace(xml.find(R"(x="10")"), 6, R"(x="+1.0e1")");
+  r = inspect(file("coord.3mf", make_zip({{"[Content_Types].xml", kContentTypes}, {"_rels/.rels", kRels}, {"3D/3dmodel.model", xml}})));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 TEST_F(Catalogue, F16_StepFailures) {
