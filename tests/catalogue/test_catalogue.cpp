@@ -144,6 +144,16 @@ TEST_F(Catalogue, F10_TooManyTriangles) {
   r = inspect(file("many.stl", binary_stl(cube())), "--max-triangles 10");
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_TRUE(contains(r.err, "exceeds --max-triangles")) << r.err;
+  // A 10 GB binary STL (sparse: no disk used) is refused from its size and header, before it is
+  // mapped (it was read whole, 9.7 GB resident, first).
+  const auto big = dir_ / "big.stl";
+  std::string header(84, ' ');
+  put_u32(header, 80, 200'000'000u);
+  write_file(big, header);
+  std::filesystem::resize_file(big, 84 + 50ull * 200'000'000u);
+  r = inspect("'" + big.string() + "'");
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_TRUE(contains(r.err, "binary STL of 200000000 triangles (by its size")) << r.err;
 }
 
 TEST_F(Catalogue, F11_CompressedInput) {
