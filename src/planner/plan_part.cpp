@@ -220,7 +220,9 @@ core::Status program_of(const machine::MachineConfig& machine, const process::Pr
                         PlanPartResult& out) {
   const Plan& plan = out.plan;
   auto t0 = Clock::now();
-  auto gcode = post::write_gcode(machine, process, plan.program, options.gcode);
+  post::GcodeOptions gcode_options = options.gcode;
+  gcode_options.stats = &out.gcode_stats;
+  auto gcode = post::write_gcode(machine, process, plan.program, gcode_options);
   if (!gcode) return gcode.error();
   out.gcode = std::move(gcode.value());
   out.gcode_s = since(t0);
@@ -316,6 +318,15 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
   }
   if (!made) return made.error();
   const Plan& plan = out.plan;
+  // Catalogue O3: a linear maximum below the process's feeds slows moves below the planned feed
+  // (F100 on every move): a warning with the count. Slowing where the rotary axes turn (and the
+  // linear axes with them) is ordinary on a 5-axis machine and not warned of.
+  const bool slow_machine = machine.feed.linear_max_mm_min < 60.0 * std::max(process.deposit_feed_mm_s, process.travel_feed_mm_s);
+  if (const post::GcodeStats& g = out.gcode_stats; slow_machine && g.linear_limited > 0) {
+    out.warnings.push_back(fmt::format("{} of {} feed blocks run slower than planned: the machine's linear maximum "
+                                       "(feed.linear_max_mm_min {} mm/min) is below the process's feed there",
+                                       g.linear_limited, g.feed_blocks, machine.feed.linear_max_mm_min));
+  }
   if (plan.thin_regions > 0) {
     out.warnings.push_back(fmt::format("{} regions thinner than a bead ({:.1f} mm2) get no path; see plan.json", plan.thin_regions,
                                        plan.thin_area_mm2));

@@ -29,6 +29,9 @@ constexpr double kStallGuardShare = 0.6;
 // Consecutive program points whose tilt changes sign while C moves more than this (degrees) are on
 // different solution branches (a pass by the singular axis keeps C).
 constexpr double kBranchJumpDeg = 90.0;
+// A block whose axis limits lengthen it by more than this share of its planned time is counted as
+// slowed (GcodeStats).
+constexpr double kSlowedShare = 0.01;
 
 using core::ErrorCode;
 using core::make_error;
@@ -181,8 +184,12 @@ class Writer {
     const double d_tilt = std::abs(pb.a_or_b_deg - pa.a_or_b_deg), d_c = std::abs(pb.c_deg - pa.c_deg);
     const double l_rot = std::hypot(d_tilt, d_c);
     // Duration in minutes: the planned tip speed, slowed until every axis is within its maximum.
-    double t_min = std::max({l_part / (feed_mm_s * 60.0), l_xyz / m_.feed.linear_max_mm_min,
-                             std::max(d_tilt, d_c) / m_.feed.rotary_max_deg_min});
+    const double t_feed = l_part / (feed_mm_s * 60.0), t_linear = l_xyz / m_.feed.linear_max_mm_min;
+    const double t_rotary = std::max(d_tilt, d_c) / m_.feed.rotary_max_deg_min;
+    double t_min = std::max({t_feed, t_linear, t_rotary});
+    ++stats_.feed_blocks;
+    // Slowed by more than the words' rounding: counted.
+    if (t_min > t_feed * (1.0 + kSlowedShare)) ++(t_linear >= t_rotary ? stats_.linear_limited : stats_.rotary_limited);
     if (l_xyz > 0.0) return feed_word(l_xyz / t_min);
     // Rotary only: F is degrees/min along the combined rotary motion, itself within the rotary maximum.
     t_min = std::max(t_min, l_rot / m_.feed.rotary_max_deg_min);
@@ -191,6 +198,11 @@ class Writer {
 
   const machine::MachineConfig& m_;
   const GcodeOptions& o_;
+
+ public:
+  mutable GcodeStats stats_;
+
+ private:
   const bool five_;
   std::string out_;
   Words last_{};
@@ -511,6 +523,7 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
   if (w.over_cap()) {
     return make_error(ErrorCode::kOutput, fmt::format("the program exceeds the output cap of {} bytes", options.max_output_bytes));
   }
+  if (options.stats != nullptr) *options.stats = w.stats_;
   return w.take();
 }
 

@@ -546,6 +546,20 @@ TEST_F(Catalogue, O9_OutputIsOneSet) {
   EXPECT_TRUE(slurp(out / "plan.json") == plan);
 }
 
+// O3: a machine whose linear maximum is below the process's feeds slows every move: 0 with a
+// warning counting the blocks (F100 on every move went without a word).
+TEST_F(Catalogue, O3_SlowedFeedsAreWarned) {
+  const std::string part = file("cube.stl", binary_stl(cube()));
+  const std::string out = " -o '" + (dir_ / "out").string() + "' --no-html --strategy single";
+  CliRun run = run_cli("plan " + part + out + " --set machine.feed.linear_max_mm_min=100");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(contains(run.err, "feed blocks run slower than planned")) << run.err;
+  EXPECT_EQ(slurp(dir_ / "out" / "cube.ngc").find(" F3000"), std::string::npos);  // never above the limit
+  run = run_cli("plan " + part + out);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_FALSE(contains(run.err, "run slower than planned")) << run.err;
+}
+
 // O5: --max-output-bytes caps what a plan writes: over it, 6 and nothing under the final names.
 TEST_F(Catalogue, O5_MaxOutputBytes) {
   const std::string part = file("cube.stl", binary_stl(cube(20.0)));

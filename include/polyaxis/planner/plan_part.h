@@ -49,6 +49,7 @@ struct PlanPartResult {
   std::string choice;                    // what was chosen and why, one sentence
   std::vector<std::string> warnings;     // not support-free regions, thin regions, ...
   double gcode_s = 0.0, simulate_s = 0.0, verify_s = 0.0;
+  post::GcodeStats gcode_stats;         // blocks the machine's axis limits slowed
 };
 
 // Plans PART on MACHINE with PROCESS.

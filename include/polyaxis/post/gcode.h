@@ -35,11 +35,19 @@
 
 namespace polyaxis::post {
 
+// What the writer did to the feeds (catalogue O3: slowing down is a warning with the count).
+struct GcodeStats {
+  std::uint64_t feed_blocks = 0;     // G1 blocks
+  std::uint64_t linear_limited = 0;  // of which the linear axes' maximum (feed.linear_max_mm_min) set the time
+  std::uint64_t rotary_limited = 0;  // of which the rotary axes' maximum set the time (turning the tool)
+};
+
 struct GcodeOptions {
   double chordal_mm = 0.01;            // largest tip deviation from the planned segment between blocks
   bool rapid_travel = false;           // travel moves (process off) as G0 at the controller's rapid rates
                                        // instead of G1 at their planned feed
   std::uint64_t max_output_bytes = 0;  // 0: no cap; beyond it → kOutput (RELIABILITY O5)
+  GcodeStats* stats = nullptr;         // filled when given
 };
 
 // The program for POINTS: header (G21 G90 G94 G17 and comments naming machine and process), a G0 to
