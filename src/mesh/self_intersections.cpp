@@ -1,5 +1,9 @@
 // Self-intersection test, after CGAL Polygon_mesh_processing::self_intersections: candidate
-// pairs from box_intersection_d over face bounding boxes, then exact predicates (Epick):
+// pairs of faces whose bounding boxes overlap, found in a uniform grid of cells about twice a
+// face's size (each pair taken once, in the cell holding the low corner of the two boxes'
+// overlap) and checked cell by cell in parallel; CGAL's box_intersection_d where the faces are
+// too uneven for a grid. Then exact predicates (Epick), after a filter for faces sharing a vertex
+// (one face's far edge strictly on one side of the other's plane: they meet at the vertex only):
 // - no shared vertex: do_intersect(triangle, triangle);
 // - one shared vertex: the opposite edge of either face meets the other face;
 // - a shared edge: the two opposite vertices are coplanar with the edge and on the same side.
@@ -11,8 +15,14 @@
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/intersections.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <mutex>
+#include <optional>
 
 #include "polyaxis/core/progress.h"
 
@@ -46,6 +56,13 @@ bool faces_intersect(const Mesh& mesh, std::size_t f, std::size_t g) {
   const Triangle3 ta(pa[0], pa[1], pa[2]), tb(pb[0], pb[1], pb[2]);
   if (shared == 0) return CGAL::do_intersect(ta, tb);
   if (shared == 1) {
+    // One face's far edge strictly on one side of the other's plane: that face touches the other's
+    // plane at the shared vertex only.
+    auto one_side = [](const Point* t, const Point& p, const Point& q) {
+      const CGAL::Orientation op = CGAL::orientation(t[0], t[1], t[2], p), oq = CGAL::orientation(t[0], t[1], t[2], q);
+      return op != CGAL::COPLANAR && op == oq;
+    };
+    if (one_side(pb, pa[(ia + 1) % 3], pa[(ia + 2) % 3]) || one_side(pa, pb[(ib + 1) % 3], pb[(ib + 2) % 3])) return false;
     const Segment3 opposite_a(pa[(ia + 1) % 3], pa[(ia + 2) % 3]);
     const Segment3 opposite_b(pb[(ib + 1) % 3], pb[(ib + 2) % 3]);
     return CGAL::do_intersect(opposite_a, tb) || CGAL::do_intersect(opposite_b, ta);
@@ -67,7 +84,92 @@ bool faces_intersect(const Mesh& mesh, std::size_t f, std::size_t g) {
 
 }  // namespace
 
-std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh) {
+namespace {
+
+// Candidate pairs from CGAL's box intersection (sequential): the fallback for uneven meshes.
+void mark_by_boxes(const Mesh& mesh, const std::vector<Box>& boxes, std::vector<std::atomic<unsigned char>>& hit) {
+  std::vector<Box> work = boxes;
+  core::Progress progress("self-intersections", 0);  // candidate pairs checked (the total is not known)
+  std::uint64_t pairs = 0;
+  auto callback = [&](const Box& x, const Box& y) {
+    if ((++pairs & 0xffff) == 0) progress.update(pairs);
+    const std::size_t f = x.info(), g = y.info();
+    if (hit[f].load(std::memory_order_relaxed) && hit[g].load(std::memory_order_relaxed)) return;
+    if (faces_intersect(mesh, f, g)) hit[f].store(1, std::memory_order_relaxed), hit[g].store(1, std::memory_order_relaxed);
+  };
+  CGAL::box_self_intersection_d<CGAL::Sequential_tag>(work.begin(), work.end(), callback);
+}
+
+// A uniform grid over the faces' boxes: for each cell, the faces whose boxes reach into it.
+struct FaceGrid {
+  double origin[3] = {0, 0, 0}, cell = 1.0;
+  std::int64_t dims[3] = {1, 1, 1};
+  std::vector<std::uint32_t> start, faces;  // faces of cell c: faces[start[c], start[c + 1])
+  std::int64_t index(const double* p, int k) const {
+    return std::clamp(static_cast<std::int64_t>(std::floor((p[k] - origin[k]) / cell)), std::int64_t{0}, dims[k] - 1);
+  }
+  std::int64_t cell_of(const double* p) const { return (index(p, 2) * dims[1] + index(p, 1)) * dims[0] + index(p, 0); }
+};
+
+// The grid, or none when the faces are too uneven for one (a face spanning many cells).
+std::optional<FaceGrid> make_grid(const std::vector<Box>& boxes) {
+  if (boxes.empty()) return std::nullopt;
+  FaceGrid g;
+  double lo[3] = {boxes[0].min_coord(0), boxes[0].min_coord(1), boxes[0].min_coord(2)}, hi[3] = {lo[0], lo[1], lo[2]};
+  double mean_size = 0.0;
+  for (const Box& b : boxes) {
+    double size = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], b.min_coord(k)), hi[k] = std::max(hi[k], b.max_coord(k));
+      size = std::max(size, b.max_coord(k) - b.min_coord(k));
+    }
+    mean_size += size;
+  }
+  mean_size /= static_cast<double>(boxes.size());
+  const double span = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (!(span > 0.0) || !std::isfinite(span)) return std::nullopt;
+  g.cell = std::max(2.0 * mean_size, span * 1e-6);
+  // At most about two cells a face.
+  const double max_cells = 2.0 * static_cast<double>(boxes.size()) + 8.0;
+  for (;;) {
+    double cells = 1.0;
+    for (int k = 0; k < 3; ++k) cells *= std::floor((hi[k] - lo[k]) / g.cell) + 1.0;
+    if (cells <= max_cells) break;
+    g.cell *= 1.25;
+  }
+  for (int k = 0; k < 3; ++k) g.origin[k] = lo[k], g.dims[k] = static_cast<std::int64_t>(std::floor((hi[k] - lo[k]) / g.cell)) + 1;
+  const auto cells = static_cast<std::size_t>(g.dims[0] * g.dims[1] * g.dims[2]);
+  // Counting sort of (cell, face) entries; too many entries means faces far larger than the cell.
+  std::vector<std::uint32_t> count(cells + 1, 0);
+  std::uint64_t entries = 0;
+  const std::uint64_t max_entries = 16 * static_cast<std::uint64_t>(boxes.size()) + 64;
+  auto for_cells = [&](const Box& b, auto&& visit) {
+    const double l[3] = {b.min_coord(0), b.min_coord(1), b.min_coord(2)}, h[3] = {b.max_coord(0), b.max_coord(1), b.max_coord(2)};
+    for (std::int64_t z = g.index(l, 2); z <= g.index(h, 2); ++z) {
+      for (std::int64_t y = g.index(l, 1); y <= g.index(h, 1); ++y) {
+        for (std::int64_t x = g.index(l, 0); x <= g.index(h, 0); ++x) visit(static_cast<std::size_t>((z * g.dims[1] + y) * g.dims[0] + x));
+      }
+    }
+  };
+  for (const Box& b : boxes) {
+    for_cells(b, [&](std::size_t c) { ++count[c + 1], ++entries; });
+    if (entries > max_entries) return std::nullopt;
+  }
+  for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+  g.start = count;
+  g.faces.resize(entries);
+  for (const Box& b : boxes) for_cells(b, [&](std::size_t c) { g.faces[count[c]++] = static_cast<std::uint32_t>(b.info()); });
+  return g;
+}
+
+bool overlap(const Box& a, const Box& b) {
+  for (int k = 0; k < 3; ++k) {
+    if (a.max_coord(k) < b.min_coord(k) || b.max_coord(k) < a.min_coord(k)) return false;
+  }
+  return true;
+}
+
+std::vector<Box> face_boxes(const Mesh& mesh) {
   std::vector<Box> boxes;
   boxes.reserve(mesh.triangles.size());
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
@@ -76,21 +178,59 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh) {
     double hi[3] = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
     boxes.emplace_back(lo, hi, f);
   }
-  std::vector<char> hit(mesh.triangles.size(), 0);
-  core::Progress progress("self-intersections", 0);  // candidate pairs checked (the total is not known)
-  std::uint64_t pairs = 0;
-  auto callback = [&](const Box& x, const Box& y) {
-    if ((++pairs & 0xffff) == 0) progress.update(pairs);
-    const std::size_t f = x.info(), g = y.info();
-    if (hit[f] && hit[g]) return;
-    if (faces_intersect(mesh, f, g)) hit[f] = hit[g] = 1;
-  };
-  CGAL::box_self_intersection_d<CGAL::Sequential_tag>(boxes.begin(), boxes.end(), callback);
+  return boxes;
+}
+
+std::vector<std::uint32_t> marked(const std::vector<std::atomic<unsigned char>>& hit) {
   std::vector<std::uint32_t> faces;
   for (std::size_t f = 0; f < hit.size(); ++f) {
-    if (hit[f]) faces.push_back(static_cast<std::uint32_t>(f));
+    if (hit[f].load(std::memory_order_relaxed)) faces.push_back(static_cast<std::uint32_t>(f));
   }
   return faces;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> detail::self_intersecting_faces_by_boxes(const Mesh& mesh) {
+  std::vector<std::atomic<unsigned char>> hit(mesh.triangles.size());
+  mark_by_boxes(mesh, face_boxes(mesh), hit);
+  return marked(hit);
+}
+
+std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh) {
+  const std::vector<Box> boxes = face_boxes(mesh);
+  std::vector<std::atomic<unsigned char>> hit(mesh.triangles.size());
+  const std::optional<FaceGrid> grid = make_grid(boxes);
+  if (!grid) {
+    mark_by_boxes(mesh, boxes, hit);
+  } else {
+    const FaceGrid& g = *grid;
+    const std::size_t cells = g.start.size() - 1;
+    core::Progress progress("self-intersections", cells);
+    std::atomic<std::size_t> done{0};
+    std::mutex progress_mutex;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t c = range.begin(); c != range.end(); ++c) {
+        for (std::uint32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
+          const Box& a = boxes[g.faces[i]];
+          for (std::uint32_t j = i + 1; j < g.start[c + 1]; ++j) {
+            const Box& b = boxes[g.faces[j]];
+            if (!overlap(a, b)) continue;
+            // Each pair once: in the cell of the low corner of the two boxes' overlap.
+            const double corner[3] = {std::max(a.min_coord(0), b.min_coord(0)), std::max(a.min_coord(1), b.min_coord(1)),
+                                      std::max(a.min_coord(2), b.min_coord(2))};
+            if (static_cast<std::size_t>(g.cell_of(corner)) != c) continue;
+            const std::size_t f = a.info(), h = b.info();
+            if (hit[f].load(std::memory_order_relaxed) && hit[h].load(std::memory_order_relaxed)) continue;
+            if (faces_intersect(mesh, f, h)) hit[f].store(1, std::memory_order_relaxed), hit[h].store(1, std::memory_order_relaxed);
+          }
+        }
+      }
+      const std::size_t now = done.fetch_add(range.size()) + range.size();
+      if (std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock); lock.owns_lock()) progress.update(now);
+    });
+  }
+  return marked(hit);
 }
 
 }  // namespace polyaxis::mesh
