@@ -275,6 +275,16 @@ TEST_F(Catalogue, F15_ThreeMf) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
+// CAD that is not sewn: an IGES file of trimmed surfaces was refused as open ("a hole of 74
+// edges"); its faces are sewn before meshing and the part comes out closed with no hole filled.
+TEST_F(Catalogue, F16_UnsewnIgesComesOutClosed) {
+  const auto r = inspect("'" + std::string(POLYAXIS_CORPUS_DIR) + "/unsewn_fused.igs'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "\"watertight\": true")) << r.out;
+  EXPECT_TRUE(contains(r.err, "sewn")) << r.err;
+  EXPECT_FALSE(contains(r.err, "hole")) << r.err;
+}
+
 TEST_F(Catalogue, F16_StepFailures) {
   auto r = inspect(file("bad.step", "ISO-10303-21;\nHEADER;\nthis is not step\nENDSEC;\n"));
   EXPECT_EQ(r.exit_code, 3);
