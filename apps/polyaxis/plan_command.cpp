@@ -79,6 +79,53 @@ std::string with_set_id(const std::string& gcode, const std::string& id) {
   return gcode.substr(0, eol - 1) + ", set " + id + gcode.substr(eol - 1);
 }
 
+// Writes the plan's files as one set (io::OutputSet): plan.json, report.json (also returned in
+// REPORT_TEXT, for --json), timings.json, report.html, the SVGs, and the G-code last, each carrying
+// the set id (set in META). kOutput when a file cannot be written or the set exceeds
+// --max-output-bytes; nothing is then left under the final names.
+core::Status write_plan_set(const PlanCommandOptions& o, const planner::PlanPartResult& job, const machine::MachineConfig& machine,
+                            const process::ProcessConfig& process, report::PlanMeta& meta, std::string& report_text) {
+  auto set = io::OutputSet::open(o.out_dir);
+  if (!set) return set.error();
+  const planner::Plan& plan = job.plan;
+  const std::string stem = std::filesystem::path(o.part.path).stem().string();
+  meta.set_id = set_id(job.gcode, report::report_json(plan, job.simulation, meta, &job.check));
+  const std::string gcode = with_set_id(job.gcode, meta.set_id);
+  report_text = report::report_json(plan, job.simulation, meta, &job.check);
+  const std::size_t files = 4 + (o.html ? 1 : 0) + (o.svg ? plan.layers.layers.size() : 0);
+  core::Progress progress("writing", files);
+  std::size_t written = 0;
+  std::uint64_t total = 0;
+  auto add = [&](const std::string& name, std::string_view bytes, io::Durability durability) -> core::Status {
+    total += bytes.size();
+    if (o.max_output_bytes != 0 && total > o.max_output_bytes) {
+      return core::make_error(core::ErrorCode::kOutput, fmt::format("{}/{}: the output exceeds --max-output-bytes {} ({} bytes so far); "
+                                                                    "nothing of this run was written",
+                                                                    o.out_dir, name, o.max_output_bytes, total));
+    }
+    auto s = set.value().add(name, bytes, durability);
+    if (s) progress.update(++written);
+    return s;
+  };
+  const report::PlanView view =
+      report::make_plan_view(plan, machine, process, job.axis ? &*job.axis : nullptr, o.part.path, report_text, &job.check);
+  if (auto s = add("plan.json", report::plan_view_json(view), io::Durability::kAtomic); !s) return s;
+  if (auto s = add("report.json", report_text, io::Durability::kAtomic); !s) return s;
+  if (auto s = add("timings.json", report::timings_json(plan, meta), io::Durability::kAtomic); !s) return s;
+  if (o.html) {
+    if (auto s = add("report.html", report::report_html(view, report::viewer_bundle()), io::Durability::kAtomic); !s) return s;
+  }
+  if (o.svg) {
+    for (std::size_t k = 0; k < plan.layers.layers.size(); ++k) {
+      const std::string name = fmt::format("layer_{:05d}.svg", plan.layers.layers[k].index);
+      if (auto s = add(name, report::layer_svg(plan.layers.layers[k], &plan.toolpaths[k]), io::Durability::kAtomic); !s) return s;
+    }
+  }
+  // The machine program last: moved into place after everything it belongs with.
+  if (auto s = add(stem + ".ngc", gcode, io::Durability::kSynced); !s) return s;
+  return set.value().commit();
+}
+
 int run_plan(PlanCommandOptions& o) {
   planner::PlanPartOptions& opt = o.part_plan;
   if (auto s = parse_direction(o.dir, opt.direction); !s) return report_error(s.error());
@@ -114,52 +161,14 @@ int run_plan(PlanCommandOptions& o) {
   const planner::Plan& plan = job.plan;
   std::fprintf(stderr, "polyaxis: strategy %s: %s\n", planner::strategy_name(job.strategy_used), job.choice.c_str());
   for (const std::string& w : job.warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
-  const std::optional<analysis::CentroidalAxis>& axis_shown = job.axis;
 
-  auto set = io::OutputSet::open(o.out_dir);
-  if (!set) return report_error(set.error());
   const std::string stem = std::filesystem::path(o.part.path).stem().string();
   report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc", loaded.value().read_s, loaded.value().repair_s,
                         job.gcode_s, job.simulate_s, job.verify_s, "", "", ""};
   meta.strategy = planner::strategy_name(job.strategy_used);
   meta.choice = job.choice;
-  meta.set_id = set_id(job.gcode, report::report_json(plan, job.simulation, meta, &job.check));
-  const std::string gcode = with_set_id(job.gcode, meta.set_id);
-  const std::string report_text = report::report_json(plan, job.simulation, meta, &job.check);
-  const std::size_t files = 4 + (o.html ? 1 : 0) + (o.svg ? plan.layers.layers.size() : 0);
-  core::Progress progress("writing", files);
-  std::size_t written = 0;
-  std::uint64_t total = 0;
-  auto add = [&](const std::string& name, std::string_view bytes, io::Durability durability) -> core::Status {
-    total += bytes.size();
-    if (o.max_output_bytes != 0 && total > o.max_output_bytes) {
-      return core::make_error(core::ErrorCode::kOutput, fmt::format("{}/{}: the output exceeds --max-output-bytes {} ({} bytes so far); "
-                                                                    "nothing of this run was written",
-                                                                    o.out_dir, name, o.max_output_bytes, total));
-    }
-    auto s = set.value().add(name, bytes, durability);
-    if (s) progress.update(++written);
-    return s;
-  };
-  const report::PlanView view =
-      report::make_plan_view(plan, machine, process, axis_shown ? &*axis_shown : nullptr, o.part.path, report_text, &job.check);
-  if (auto s = add("plan.json", report::plan_view_json(view), io::Durability::kAtomic); !s) return report_error(s.error());
-  if (auto s = add("report.json", report_text, io::Durability::kAtomic); !s) return report_error(s.error());
-  if (auto s = add("timings.json", report::timings_json(plan, meta), io::Durability::kAtomic); !s) return report_error(s.error());
-  if (o.html) {
-    if (auto s = add("report.html", report::report_html(view, report::viewer_bundle()), io::Durability::kAtomic); !s) return report_error(s.error());
-  }
-  if (o.svg) {
-    for (std::size_t k = 0; k < plan.layers.layers.size(); ++k) {
-      const std::string name = fmt::format("layer_{:05d}.svg", plan.layers.layers[k].index);
-      if (auto s = add(name, report::layer_svg(plan.layers.layers[k], &plan.toolpaths[k]), io::Durability::kAtomic); !s) {
-        return report_error(s.error());
-      }
-    }
-  }
-  // The machine program last: moved into place after everything it belongs with.
-  if (auto s = add(stem + ".ngc", gcode, io::Durability::kSynced); !s) return report_error(s.error());
-  if (auto s = set.value().commit(); !s) return report_error(s.error());
+  std::string report_text;
+  if (auto s = write_plan_set(o, job, machine, process, meta, report_text); !s) return report_error(s.error());
   if (warnings > 0) std::fprintf(stderr, "polyaxis: %zu warnings\n", warnings);
   if (o.json) {
     std::fputs(report_text.c_str(), stdout);
