@@ -154,6 +154,41 @@ core::Result<json> parse_config_document(std::string_view text, const std::strin
   return detail::parse_document(text, source);
 }
 
+namespace {
+
+// True when TEXT is well-formed UTF-8 (no overlong forms, surrogates or code points past U+10FFFF).
+bool valid_utf8(std::string_view text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    std::size_t n = 0;
+    std::uint32_t cp = 0;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    } else if (c >= 0xC2 && c <= 0xDF) {
+      n = 1, cp = c & 0x1F;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+      n = 2, cp = c & 0x0F;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      n = 3, cp = c & 0x07;
+    } else {
+      return false;
+    }
+    for (std::size_t k = 1; k <= n; ++k) {
+      if (i + k >= text.size()) return false;
+      const auto d = static_cast<unsigned char>(text[i + k]);
+      if ((d & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (d & 0x3F);
+    }
+    if ((n == 2 && cp < 0x800) || (n == 3 && (cp < 0x10000 || cp > 0x10FFFF)) || (cp >= 0xD800 && cp <= 0xDFFF)) return false;
+    i += n + 1;
+  }
+  return true;
+}
+
+}  // namespace
+
 core::Status apply_override(json& doc, std::string_view key_eq_value) {
   auto usage = [&](const std::string& why) {
     return core::make_error(core::ErrorCode::kUsage, fmt::format("--set {}: {}", key_eq_value, why));
@@ -183,6 +218,9 @@ core::Status apply_override(json& doc, std::string_view key_eq_value) {
     start = dot + 1;
   }
   if (node->is_object()) return usage(fmt::format("'{}' is a group of keys, not a value", walked));
+  // JSON text is UTF-8: a value that is not would make the document unwritable (it was an
+  // internal error, exit 1, found by fuzz_config).
+  if (!valid_utf8(value)) return usage(fmt::format("'{}': the value is not valid UTF-8", walked));
   if (node->is_string()) {
     *node = std::string(value);
     return {};

@@ -479,6 +479,10 @@ TEST_F(Catalogue, P8_ProcessSwitchesAndFeeds) {
     EXPECT_EQ(run.exit_code, 2) << set << ": " << run.err;
     EXPECT_TRUE(contains(run.err, set.substr(set.find('.') + 1, set.find('=') - set.find('.') - 1))) << run.err;
   }
+  // A value that is not UTF-8 made the document unwritable: exit 1 (found by fuzz_config).
+  const CliRun bad = run_cli("plan " + part + out + " --set \"$(printf 'process.process_on=M64 P0\\254')\"");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_TRUE(contains(bad.err, "UTF-8")) << bad.err;
   for (const std::string& set : std::vector<std::string>{"process.process_on=M3 S1000", "process.process_on=M64 P0 G4 P0.5"}) {
     const CliRun run = run_cli("plan " + part + out + " --set '" + set + "'");
     EXPECT_EQ(run.exit_code, 0) << set << ": " << run.err;
