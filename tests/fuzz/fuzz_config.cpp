@@ -10,15 +10,12 @@
 #include <string>
 #include <string_view>
 
+#include "fuzz_require.h"
 #include "polyaxis/core/config_document.h"
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
 
-namespace {
-void require(bool ok) {
-  if (!ok) std::abort();
-}
-}  // namespace
+using polyaxis::fuzz::require;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace polyaxis;

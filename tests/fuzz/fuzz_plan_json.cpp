@@ -7,13 +7,10 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "fuzz_require.h"
 #include "polyaxis/report/plan_view.h"
 
-namespace {
-void require(bool ok) {
-  if (!ok) std::abort();
-}
-}  // namespace
+using polyaxis::fuzz::require;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace polyaxis;
