@@ -61,8 +61,9 @@ struct PlanPartResult {
 //   the plan with the least unsupported area; on a tie the fewer regions, then the fewer
 //   reorientations. A candidate that fails is skipped when the other succeeds.
 // Then the G-code, its simulation against the plan and its verification against the build model.
-// With kAuto, a decomposition whose program, read back, starts a region in mid-air or still
-// collides gives way to the single direction when that one reads back clean.
+// With kAuto, a decomposition whose program cannot be written (a limit only the program shows,
+// such as C winding past its end stops), or, read back, starts a region in mid-air or still
+// collides, gives way to the single direction when that one reads back clean.
 // Errors: those of make_plan and write_gcode (kUsage naming options, kInfeasible, kMachineLimit
 // naming the region, direction and limit); a program breaking a machine limit is kMachineLimit; a
 // program with collisions is kInfeasible naming the first ones (unless allow_collisions).
