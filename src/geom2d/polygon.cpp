@@ -84,4 +84,29 @@ bool is_simple(const Ring& ring) {
   return true;
 }
 
+Centroid centroid(const std::vector<Polygon>& polygons) {
+  double sx = 0.0, sy = 0.0, a2 = 0.0;
+  for (const Ring& r : rings_of(polygons)) {
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const double x0 = to_mm(r[i].x), y0 = to_mm(r[i].y);
+      const double x1 = to_mm(r[(i + 1) % r.size()].x), y1 = to_mm(r[(i + 1) % r.size()].y);
+      const double c = x0 * y1 - x1 * y0;
+      a2 += c;
+      sx += (x0 + x1) * c;
+      sy += (y0 + y1) * c;
+    }
+  }
+  Centroid out;
+  out.area = a2 / 2.0;
+  if (a2 != 0.0) {
+    out.x = sx / (3.0 * a2);
+    out.y = sy / (3.0 * a2);
+  } else if (!polygons.empty() && !polygons.front().outer.empty()) {
+    out.x = to_mm(polygons.front().outer.front().x);
+    out.y = to_mm(polygons.front().outer.front().y);
+  }
+  return out;
+}
+
+
 }  // namespace polyaxis::geom2d

@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "adaptive.h"
+#include "tilted.h"
 #include "polyaxis/core/progress.h"
 #include "polyaxis/slicing/section.h"
 
@@ -30,12 +31,14 @@ double plane_height(double base, double t, std::int64_t k) { return base + (stat
 
 }  // namespace
 
+const char* layer_strategy_name(LayerStrategy s) { return s == LayerStrategy::kTilted ? "tilted" : "planar"; }
+
 core::Status validate(const SliceOptions& o) {
   if (!core::is_finite(o.direction) || core::norm(o.direction) < 1e-12) {
     return make_error(ErrorCode::kUsage, "--dir: the direction must be a finite non-zero vector");
   }
-  if (!o.adaptive && !finite_positive(o.layer_mm)) return make_error(ErrorCode::kUsage, "--layer: must be a finite number > 0");
-  if (o.adaptive) {
+  if (!o.adaptive && !o.tilted && !finite_positive(o.layer_mm)) return make_error(ErrorCode::kUsage, "--layer: must be a finite number > 0");
+  if (o.adaptive || o.tilted) {
     if (!finite_positive(o.min_mm)) return make_error(ErrorCode::kUsage, "--min: must be a finite number > 0");
     if (!finite_positive(o.max_mm)) return make_error(ErrorCode::kUsage, "--max: must be a finite number > 0");
     if (o.min_mm > o.max_mm) {
@@ -67,6 +70,7 @@ core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& opti
   if (options.threads > 0) {
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
   }
+  if (options.tilted) return detail::slice_tilted(mesh, options, topology);
   const SectionContext ctx(mesh, options.direction, topology);
   if (options.adaptive) return detail::slice_adaptive(ctx, options);
 

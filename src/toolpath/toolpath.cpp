@@ -65,39 +65,10 @@ std::size_t nearest_vertex(const Ring& ring, Point target) {
   return best;
 }
 
-// Area-weighted centroid (mm) and area (mm²) of POLYGONS in the layer's (u, v) frame.
-struct Centroid {
-  double x = 0.0, y = 0.0, area = 0.0;
-};
-
-Centroid centroid_of(const std::vector<Polygon>& polygons) {
-  double sx = 0.0, sy = 0.0, a2 = 0.0;
-  for (const Ring& r : geom2d::rings_of(polygons)) {
-    for (std::size_t i = 0; i < r.size(); ++i) {
-      const double x0 = geom2d::to_mm(r[i].x), y0 = geom2d::to_mm(r[i].y);
-      const double x1 = geom2d::to_mm(r[(i + 1) % r.size()].x), y1 = geom2d::to_mm(r[(i + 1) % r.size()].y);
-      const double c = x0 * y1 - x1 * y0;
-      a2 += c;
-      sx += (x0 + x1) * c;
-      sy += (y0 + y1) * c;
-    }
-  }
-  Centroid out;
-  out.area = a2 / 2.0;
-  if (a2 != 0.0) {
-    out.x = sx / (3.0 * a2);
-    out.y = sy / (3.0 * a2);
-  } else if (!polygons.empty() && !polygons.front().outer.empty()) {
-    out.x = geom2d::to_mm(polygons.front().outer.front().x);
-    out.y = geom2d::to_mm(polygons.front().outer.front().y);
-  }
-  return out;
-}
-
 // The point seams are drawn towards on layer K: outside the layer's bounding box, in the
 // direction k·(golden angle) from the centroid.
 Point seam_target(const slicing::Layer& layer) {
-  const Centroid c = centroid_of(layer.polygons);
+  const geom2d::Centroid c = geom2d::centroid(layer.polygons);
   std::int64_t x0 = std::numeric_limits<std::int64_t>::max(), y0 = x0, x1 = std::numeric_limits<std::int64_t>::min(), y1 = x1;
   for (const Polygon& p : layer.polygons) {
     for (const Point& q : p.outer) {
@@ -211,7 +182,7 @@ class LayerPlanner {
   }
 
   ThinRegion thin_region(const Polygon& piece, std::string what) const {
-    const Centroid c = centroid_of({piece});
+    const geom2d::Centroid c = geom2d::centroid({piece});
     return {layer_.index, layer_.frame.to_world(c.x, c.y), c.area, std::move(what)};
   }
 

@@ -42,6 +42,13 @@ double area_mm2(const std::vector<Polygon>& polygons);
 // Every ring of POLYGONS (outers and holes), for the ring-based booleans of clip.h.
 std::vector<Ring> rings_of(const std::vector<Polygon>& polygons);
 
+// Area-weighted centroid (mm) and signed area (mm²) of POLYGONS in their own (u, v) frame; for a
+// zero area, the first outer ring's first point (or the origin when there is none).
+struct Centroid {
+  double x = 0.0, y = 0.0, area = 0.0;
+};
+Centroid centroid(const std::vector<Polygon>& polygons);
+
 // Exact orientation of (a, b, c): +1 counter-clockwise, -1 clockwise, 0 collinear.
 int orientation(Point a, Point b, Point c);
 

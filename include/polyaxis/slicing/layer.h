@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "polyaxis/core/vec3.h"
@@ -35,8 +36,19 @@ struct Layer {
   double above_mm = 0.0;
   std::vector<geom2d::Polygon> polygons;  // outer CCW, holes CW, strictly simple, canonical order
   double area_mm2 = 0.0;
+  // Tilted layers (slice.h, SliceOptions::tilted): the plane is not parallel to the previous
+  // layer's, so the thickness (the distance along d from this plane down to the previous layer's,
+  // over the section) varies; these are its least and largest values over the section's corners,
+  // and below/above hold half the thickness on the region's axis. Both 0 for a layer parallel to
+  // the one below (the planar slicers): see thickness_range().
+  double min_thickness_mm = 0.0, max_thickness_mm = 0.0;
 
   double thickness_mm() const { return below_mm + above_mm; }
+  // The least and largest thickness over the layer.
+  std::pair<double, double> thickness_range() const {
+    if (min_thickness_mm == 0.0 && max_thickness_mm == 0.0) return {thickness_mm(), thickness_mm()};
+    return {min_thickness_mm, max_thickness_mm};
+  }
 };
 
 }  // namespace polyaxis::slicing

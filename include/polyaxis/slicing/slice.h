@@ -37,6 +37,11 @@ struct SliceOptions {
   // ... or one of these (a stock of sheet thicknesses), when not empty. Overrides snap_mm.
   std::vector<double> thickness_stock_mm;
   int threads = 0;           // 0: all cores (oneTBB); the output does not depend on it
+  // Tilted "3-D" layers (Ruan §4.2.2, tilted.cpp) instead of parallel planes: the first layer
+  // normal to DIRECTION, then each plane along the centroidal axis of the sections, thickness in
+  // [min_mm, max_mm] at every corner of its section, under limits.voldiff and limits.overhang_deg
+  // (the other limits, snap_mm and the stock are for parallel layers and are not used).
+  bool tilted = false;
 };
 
 struct SliceResult {
@@ -46,6 +51,10 @@ struct SliceResult {
   double total_area_mm2 = 0.0;
   double volume_estimate_mm3 = 0.0;    // Σ area × thickness
 };
+
+// The strategies a region's layers can take (SliceOptions::tilted; conformal layers are not built yet).
+enum class LayerStrategy { kPlanar, kTilted };
+const char* layer_strategy_name(LayerStrategy s);
 
 // Checks OPTIONS (kUsage naming the option): finite non-zero direction, positive thicknesses,
 // min <= max, positive limits.

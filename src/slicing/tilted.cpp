@@ -1,0 +1,266 @@
+// Tilted "3-D" layers (Ruan et al. 2006, §4.2.2).
+//
+// The first layer is planar, normal to the slicing direction, its plane half a layer above the
+// part's lowest point (as the planar slicers put it). Every next layer is a plane chosen along the
+// centroidal axis of the sections: with c the centroid of the previous section (a node of the
+// axis), n its plane's normal and Δ the step, the axis's next link L runs from c to the centroid
+// of the section parallel to the previous plane at Δ above it; the tentative plane passes through
+// P_upper = c + D·Δ with normal D = L (so the thickness on the axis is Δ). It is accepted when
+//   - its section is not empty;
+//   - the thickness at every corner p of the section, the distance along D from p down to the
+//     previous plane, t(p) = ((p − o)·n) / (D·n), lies in [ΔL_min, ΔL_max];
+//   - every corner of the previous section lies at least ΔL_min/2 under the plane (the two planes
+//     do not meet inside the part, whatever the shape does beyond this section);
+//   - VolDiff ≤ VolDiff_pre (Eq. 9) with the normalisation of adaptive.cpp,
+//     A(S_b Δ S_t) / max(A(S_b), A(S_t)), S_b projected along D onto the plane;
+//   - the overhang limit of adaptive.cpp: S_t within S_b (projected) grown by
+//     max(t_min·tan α, step).
+// Otherwise D ← (D + n)/2 (Ruan's steps 1–2) until D is within kEpsDeg of n, then Δ ← Δ − Δ/4
+// (step 3), from the nominal step down to ΔL_min. When no plane passes, the plane parallel to the
+// previous one at ΔL_min is taken and counted in limit_violations (as the adaptive slicer does).
+// The layers end where the section parallel to the previous plane at ΔL_min is empty.
+//
+// Every trial cuts the whole mesh along its own direction (O(V + F) a cut; a layer takes a few).
+#include "tilted.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "polyaxis/core/progress.h"
+#include "polyaxis/geom2d/clip.h"
+#include "polyaxis/slicing/section.h"
+
+namespace polyaxis::slicing::detail {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Ruan's ε: the turn towards the previous normal stops halving below this angle.
+constexpr double kEpsDeg = 0.05;
+// Δ ← Δ − Δ/4.
+constexpr double kShrink = 0.25;
+// Snapping noise in the overhang difference (as adaptive.cpp).
+constexpr double kOverhangAreaMm2 = 1e-3;
+// Every corner of the previous section stays this share of ΔL_min under the next plane.
+constexpr double kUnderShare = 0.5;
+// Rounding of the thickness test (mm): corners are rounded to the polygon grid.
+constexpr double kThicknessSlackMm = 1e-6;
+
+// A section by an arbitrary plane {p : p·n = h}, with what the tests need of it.
+struct Cut {
+  Frame frame;
+  double h = 0.0;
+  SectionResult s;
+  Vec3 centroid;
+  std::vector<Vec3> corners;  // world positions of every ring vertex
+  bool empty() const { return s.polygons.empty() || s.area_mm2 <= 0.0; }
+};
+
+class Cutter {
+ public:
+  Cutter(const mesh::Mesh& mesh, const mesh::EdgeTopology& topology) : mesh_(mesh), topology_(topology) {}
+
+  Cut cut(Vec3 n, double h) {
+    Cut c;
+    c.frame = plane_frame(n, h);
+    c.h = h;
+    const SectionContext ctx(mesh_, c.frame.d, &topology_);
+    faces_.clear();
+    for (std::uint32_t f = 0; f < mesh_.triangles.size(); ++f) {
+      if (ctx.face_min(f) <= h && ctx.face_max(f) >= h) faces_.push_back(f);
+    }
+    c.s = section(ctx, h, c.frame, faces_, scratch_);
+    const geom2d::Centroid g = geom2d::centroid(c.s.polygons);
+    c.centroid = c.frame.to_world(g.x, g.y);
+    for (const geom2d::Ring& r : geom2d::rings_of(c.s.polygons)) {
+      for (const geom2d::Point& q : r) c.corners.push_back(c.frame.to_world(geom2d::to_mm(q.x), geom2d::to_mm(q.y)));
+    }
+    return c;
+  }
+
+ private:
+  const mesh::Mesh& mesh_;
+  const mesh::EdgeTopology& topology_;
+  std::vector<std::uint32_t> faces_;
+  SectionScratch scratch_;
+};
+
+// The polygons of BELOW projected along UPPER's normal onto its plane, in its (u, v) frame.
+std::vector<geom2d::Polygon> project(const Cut& below, const Frame& upper) {
+  auto map = [&](const geom2d::Ring& ring) {
+    geom2d::Ring out;
+    out.reserve(ring.size());
+    for (const geom2d::Point& q : ring) {
+      const Vec3 w = below.frame.to_world(geom2d::to_mm(q.x), geom2d::to_mm(q.y)) - upper.origin;
+      out.push_back({geom2d::to_units(core::dot(w, upper.u)), geom2d::to_units(core::dot(w, upper.v))});
+    }
+    return out;
+  };
+  std::vector<geom2d::Ring> rings;
+  for (const geom2d::Ring& r : geom2d::rings_of(below.s.polygons)) rings.push_back(map(r));
+  return geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
+}
+
+struct Verdict {
+  bool ok = false;
+  double t_min = 0.0, t_max = 0.0;
+};
+
+// The tests of the file comment for the plane UPPER over the section BELOW.
+Verdict judge(const Cut& below, const Cut& upper, const SliceOptions& o) {
+  Verdict v;
+  if (upper.empty()) return v;
+  const Vec3 n = below.frame.d, d = upper.frame.d;
+  const double cos_turn = core::dot(n, d);
+  if (cos_turn <= 0.0) return v;
+  v.t_min = INFINITY, v.t_max = -INFINITY;
+  for (const Vec3& p : upper.corners) {
+    const double t = (core::dot(p, n) - below.h) / cos_turn;
+    v.t_min = std::min(v.t_min, t), v.t_max = std::max(v.t_max, t);
+  }
+  if (v.t_min < o.min_mm - kThicknessSlackMm || v.t_max > o.max_mm + kThicknessSlackMm) return v;
+  for (const Vec3& q : below.corners) {
+    if (core::dot(q, d) - upper.h > -kUnderShare * o.min_mm) return v;
+  }
+  if (!o.limits.voldiff && !o.limits.overhang_deg) return v.ok = true, v;
+  const std::vector<geom2d::Polygon> under = project(below, upper.frame);
+  if (o.limits.voldiff) {
+    const double denom = std::max(geom2d::area_mm2(under), upper.s.area_mm2);
+    const auto band = geom2d::xor_rings(geom2d::rings_of(under), geom2d::rings_of(upper.s.polygons));
+    if (denom > 0.0 && geom2d::area_mm2(band) / denom > *o.limits.voldiff) return v;
+  }
+  if (o.limits.overhang_deg) {
+    const double grow = std::max(v.t_min * std::tan(*o.limits.overhang_deg * kPi / 180.0), o.limits.overhang_step_mm.value_or(0.0));
+    const auto beyond = geom2d::difference_rings(geom2d::rings_of(upper.s.polygons), geom2d::rings_of(geom2d::offset(under, grow)));
+    if (geom2d::area_mm2(beyond) > kOverhangAreaMm2) return v;
+  }
+  v.ok = true;
+  return v;
+}
+
+double angle_deg(Vec3 a, Vec3 b) { return std::acos(std::clamp(core::dot(a, b), -1.0, 1.0)) * 180.0 / kPi; }
+
+Layer layer_of(Cut&& c, double on_axis_mm, double t_min, double t_max, bool tilted) {
+  Layer l;
+  l.frame = c.frame;
+  l.height_mm = c.h;
+  l.below_mm = l.above_mm = on_axis_mm / 2.0;
+  if (tilted) l.min_thickness_mm = t_min, l.max_thickness_mm = t_max;
+  l.area_mm2 = c.s.area_mm2;
+  l.polygons = std::move(c.s.polygons);
+  return l;
+}
+
+// The plane at turn S ∈ [0, 1] from N towards the link L, through the axis point Δ on.
+Cut turned(Cutter& cutter, const Cut& below, Vec3 n, Vec3 link, double s, double step) {
+  const Vec3 d = core::normalized(n + (link - n) * s);
+  return cutter.cut(d, core::dot(below.centroid + d * step, d));
+}
+
+struct Candidate {
+  Cut cut;
+  Verdict verdict;
+  double turn = 0.0;  // the share of the link's turn taken
+};
+
+// The next plane over BELOW (file comment), or none where the part ends. At each step Δ the turn
+// is halved from the whole link (Ruan's steps 1–2) until a plane passes, then bisected back up
+// between the passing turn and the failing one (kRefine times): the largest turn found. The plane
+// taking the whole link ends the search; otherwise the steps are tried down to ΔL_min and the one
+// that follows the axis furthest is kept (the thicker on a tie).
+std::optional<Candidate> next_plane(Cutter& cutter, const Cut& below, const SliceOptions& o, std::uint32_t& violations) {
+  constexpr int kRefine = 4;
+  const Vec3 n = below.frame.d;
+  std::optional<Candidate> best;
+  for (double step = std::clamp(o.layer_mm, o.min_mm, o.max_mm); step >= o.min_mm - kThicknessSlackMm; step -= kShrink * step) {
+    const Cut probe = cutter.cut(n, below.h + step);
+    if (probe.empty()) continue;
+    const Vec3 to_probe = probe.centroid - below.centroid;
+    const Vec3 link = core::dot(to_probe, n) > 0.0 ? core::normalized(to_probe) : n;
+    std::optional<Candidate> here;
+    double fail = 0.0;  // the smallest turn known to fail (0: none yet)
+    for (double s = 1.0;; s *= 0.5) {
+      Cut trial = turned(cutter, below, n, link, s, step);
+      const Verdict v = judge(below, trial, o);
+      if (v.ok) {
+        here = Candidate{std::move(trial), v, s};
+        break;
+      }
+      fail = s;
+      if (angle_deg(core::normalized(n + (link - n) * s), n) < kEpsDeg) break;
+    }
+    if (!here) continue;
+    for (int i = 0; i < kRefine && fail > 0.0; ++i) {
+      const double mid = 0.5 * (here->turn + fail);
+      Cut trial = turned(cutter, below, n, link, mid, step);
+      const Verdict v = judge(below, trial, o);
+      if (v.ok) here = Candidate{std::move(trial), v, mid};
+      else fail = mid;
+    }
+    if (!best || here->turn > best->turn) best = std::move(here);
+    if (best->turn == 1.0) break;
+  }
+  if (best) return best;
+  Cut flat = cutter.cut(n, below.h + o.min_mm);
+  if (flat.empty()) return std::nullopt;
+  ++violations;
+  return Candidate{std::move(flat), Verdict{true, o.min_mm, o.min_mm}, 0.0};
+}
+
+}  // namespace
+
+core::Result<SliceResult> slice_tilted(const mesh::Mesh& mesh, const SliceOptions& o, const mesh::EdgeTopology* topology) {
+  const mesh::EdgeTopology own = topology ? mesh::EdgeTopology{} : mesh::build_topology(mesh);
+  Cutter cutter(mesh, topology ? *topology : own);
+  const Vec3 d0 = core::normalized(o.direction);
+  core::Box3 box;
+  for (const Vec3& v : mesh.vertices) box.add(v);
+  // Each layer goes at least ΔL_min/2 past every corner of the one below: a bound on the count.
+  const double diagonal = core::norm(box.max - box.min);
+  const auto max_layers = static_cast<std::size_t>(std::ceil(kPi * diagonal / (kUnderShare * o.min_mm))) + 16;
+  double low = INFINITY;
+  for (const Vec3& v : mesh.vertices) low = std::min(low, core::dot(v, d0));
+  const double t0 = std::clamp(o.layer_mm, o.min_mm, o.max_mm);
+  SliceResult result;
+  core::Progress progress("slicing (tilted)", 0);
+  // The first layer: planar, half a layer above the lowest point (higher where that is empty:
+  // a part starting at a point or an edge).
+  std::optional<Cut> below;
+  for (double h = low + t0 / 2.0; h < low + diagonal + t0; h += o.min_mm) {
+    Cut c = cutter.cut(d0, h);
+    if (!c.empty()) {
+      below = std::move(c);
+      break;
+    }
+  }
+  if (!below) return result;
+  result.layers.push_back(layer_of(Cut(*below), t0, t0, t0, false));
+  while (result.layers.size() < max_layers) {
+    auto next = next_plane(cutter, *below, o, result.limit_violations);
+    if (!next) break;
+    const Vec3 axis_point = below->centroid;
+    Cut& c = next->cut;
+    // The thickness on the axis: from the previous centroid along the new normal to the plane.
+    const double on_axis = (c.h - core::dot(axis_point, c.frame.d));
+    const bool tilted = angle_deg(c.frame.d, below->frame.d) > 1e-9;
+    Cut kept = c;
+    result.layers.push_back(layer_of(std::move(c), on_axis, next->verdict.t_min, next->verdict.t_max, tilted));
+    below = std::move(kept);
+    progress.update(result.layers.size());
+  }
+  if (result.layers.size() >= max_layers) {
+    return core::make_error(core::ErrorCode::kInternal,
+                            fmt::format("tilted slicing: more than {} layers over a part {:.1f} mm across", max_layers, diagonal));
+  }
+  for (std::size_t k = 0; k < result.layers.size(); ++k) {
+    Layer& l = result.layers[k];
+    l.index = static_cast<std::uint32_t>(k);
+    result.total_area_mm2 += l.area_mm2;
+    result.volume_estimate_mm3 += l.area_mm2 * l.thickness_mm();
+  }
+  return result;
+}
+
+}  // namespace polyaxis::slicing::detail
