@@ -33,6 +33,7 @@ struct PlanCommandOptions {
   bool no_tilt = false;
   bool decompose = false;
   std::string strategy = "auto";
+  std::string layers = "auto";
   planner::PlanPartOptions part_plan;
   std::string root_base;
   bool json = false;
@@ -138,6 +139,11 @@ int run_plan(PlanCommandOptions& o) {
     }
     o.strategy = "decompose";
   }
+  opt.plan.layers = o.layers == "planar" ? planner::LayerChoice::kPlanar
+                    : o.layers == "tilted" ? planner::LayerChoice::kTilted : planner::LayerChoice::kAuto;
+  if (o.no_tilt && opt.plan.layers == planner::LayerChoice::kTilted) {
+    return report_error(core::make_error(core::ErrorCode::kUsage, "--layers tilted turns the torch with each layer; it contradicts --no-tilt"));
+  }
   opt.strategy = o.strategy == "single" ? planner::Strategy::kSingle
                  : o.strategy == "decompose" ? planner::Strategy::kDecompose : planner::Strategy::kAuto;
   if (!o.root_base.empty() && opt.strategy == planner::Strategy::kSingle) {
@@ -199,6 +205,11 @@ Runner add_plan_command(CLI::App& app) {
                   "support-free, keeping the better")
       ->capture_default_str()->check(CLI::IsMember({"single", "decompose", "auto"}));
   cmd->add_flag("--decompose", o->decompose, "Same as --strategy decompose");
+  cmd->add_option("--layers", o->layers,
+                  "planar: parallel planes along each region's direction (adaptive thickness); tilted: \"3-D\" layers turning with the "
+                  "region's centroidal axis, thickness kept in the process's range; auto: per region, tilted where they leave less "
+                  "overhang than planar ones")
+      ->capture_default_str()->check(CLI::IsMember({"planar", "tilted", "auto"}));
   cmd->add_option("--decompose-budget", o->part_plan.decompose_budget_facet_visits,
                   "Work a decomposition may do, in facet visits (a few seconds by default); 0: no limit")
       ->capture_default_str()->check(CLI::Range(0.0, 1e15));

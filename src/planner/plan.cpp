@@ -8,6 +8,7 @@
 #include <set>
 
 #include "polyaxis/mesh/properties.h"
+#include "polyaxis/planner/plan_part.h"
 #include "clearance.h"
 #include "reach.h"
 #include "sequence.h"
@@ -32,6 +33,8 @@ constexpr double kBelowPlateLayerShare = 0.5;
 constexpr int kMaxGuardDepth = 8;
 // A layer whose bottom is within this of the plate's top is laid on the plate.
 constexpr double kOnPlateMm = 1e-6;
+// Auto layers: tilted layers are kept when they leave less than this share of the planar layers' overhang.
+constexpr double kTiltedGainShare = 0.5;
 
 double angle_deg(Vec3 a, Vec3 b) {
   const double c = core::dot(core::normalized(a), core::normalized(b));
@@ -95,12 +98,12 @@ core::Status guard_axes(Plan& plan, const machine::MachineConfig& machine, const
                               axis)) {
         return core::make_error(
             core::ErrorCode::kMachineLimit,
-            fmt::format("region {} layer {}: at ({:.2f}, {:.2f}, {:.2f}) on the table no tool axis within {:.0f} deg of the build "
-                        "direction ({:.3f}, {:.3f}, {:.3f}) keeps the head {:.1f} mm clear of the plate and the table (nozzle "
+            fmt::format("region {} layer {}: at ({:.2f}, {:.2f}, {:.2f}) on the table no tool axis within {:.0f} deg of the layer's "
+                        "normal ({:.3f}, {:.3f}, {:.3f}) keeps the head {:.1f} mm clear of the plate and the table (nozzle "
                         "cylinder r {:.1f} mm at {:.1f} mm) inside the machine's limits: a slimmer head (nozzle.cylinder_radius_mm), "
                         "a region built further from the plate or --strategy single would make it buildable",
                         region.id, layer.index, p.position_mm.x, p.position_mm.y, p.position_mm.z, toolpath::kMaxTiltRad * 180.0 / kPi,
-                        region.direction.x, region.direction.y, region.direction.z, options.head_clearance_mm,
+                        layer.frame.d.x, layer.frame.d.y, layer.frame.d.z, options.head_clearance_mm,
                         machine.nozzle.cylinder_radius_mm, machine.nozzle.cone_height_mm));
       }
       if (core::norm(p.tool_axis - axis) > 1e-12) ++plan.axes_turned, ++paths[k].axes_turned;
@@ -295,12 +298,9 @@ void finish_program(Plan& plan, const machine::MachineConfig& machine, const pro
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// Slices REGION (placed) along its direction, makes its toolpaths with the torch guarded, and
-// appends its layers to PLAN, numbered after those there. TOPOLOGY: the whole part's, for an
-// undivided part (null otherwise).
-core::Status add_region(Plan& plan, const PlanRegion& region, const mesh::EdgeTopology* topology, const machine::MachineConfig& machine,
-                        const process::ProcessConfig& process, const PlanOptions& options) {
-  auto t0 = Clock::now();
+// The options of REGION's planar (adaptive) slicing.
+slicing::SliceOptions planar_options(const PlanRegion& region, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                     const PlanOptions& options) {
   slicing::SliceOptions slice;
   slice.direction = region.direction;
   slice.layer_mm = process.layer_mm;
@@ -315,8 +315,81 @@ core::Status add_region(Plan& plan, const PlanRegion& region, const mesh::EdgeTo
       slice.limits.overhang_step_mm = process.max_step_bead_share * process.bead_width_mm;
     }
   }
-  // The whole part's topology is valid only for the unsplit part.
-  auto layers = slicing::slice(region.mesh, slice, topology);
+  return slice;
+}
+
+// The options of REGION's tilted slicing: the process's thickness range, VolDiff and overhang.
+slicing::SliceOptions tilted_options(const PlanRegion& region, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                     const PlanOptions& options) {
+  slicing::SliceOptions slice;
+  slice.direction = region.direction;
+  slice.tilted = true;
+  slice.layer_mm = process.layer_mm;
+  slice.min_mm = process.layer_min_mm;
+  slice.max_mm = process.layer_max_mm;
+  slice.threads = options.threads;
+  slice.limits.voldiff = process.voldiff;
+  slice.limits.overhang_deg = process.self_supporting_deg;
+  if (options.tilt_on_overhang && machine::has_rotary_axes(machine.kind)) {
+    slice.limits.overhang_step_mm = process.max_step_bead_share * process.bead_width_mm;
+  }
+  return slice;
+}
+
+// REGION's layers by OPTIONS.layers; for kAuto the planar ones unless they leave overhang
+// (slicing::overhang_estimate_mm2 with the step a tilted torch may take) and the tilted ones leave
+// less. Sets the region's layers, layers_rule and layers_why.
+core::Result<slicing::SliceResult> region_layers(PlanRegion& region, const mesh::EdgeTopology* topology, const machine::MachineConfig& machine,
+                                                 const process::ProcessConfig& process, const PlanOptions& options) {
+  const bool rotary = machine::has_rotary_axes(machine.kind);
+  if (options.layers == LayerChoice::kTilted && !rotary) {
+    return core::make_error(core::ErrorCode::kUsage,
+                            fmt::format("--layers tilted: machine '{}' has no rotary axes to turn the torch with the layers", machine.name));
+  }
+  if (options.layers == LayerChoice::kTilted && !options.tilt_on_overhang) {
+    return core::make_error(core::ErrorCode::kUsage, "--layers tilted turns the torch with each layer; it contradicts --no-tilt");
+  }
+  if (options.layers != LayerChoice::kAuto) {
+    region.layers = options.layers == LayerChoice::kTilted ? slicing::LayerStrategy::kTilted : slicing::LayerStrategy::kPlanar;
+    region.layers_rule = kLayersAsked;
+    region.layers_why = fmt::format("--layers {}", layer_choice_name(options.layers));
+    const auto o = region.layers == slicing::LayerStrategy::kTilted ? tilted_options(region, machine, process, options)
+                                                                     : planar_options(region, machine, process, options);
+    return slicing::slice(region.mesh, o, topology);
+  }
+  auto planar = slicing::slice(region.mesh, planar_options(region, machine, process, options), topology);
+  if (!planar) return planar;
+  const double step = options.tilt_on_overhang && rotary ? process.max_step_bead_share * process.bead_width_mm : 0.0;
+  const double planar_mm2 = slicing::overhang_estimate_mm2(planar.value(), process.self_supporting_deg, step);
+  region.layers = slicing::LayerStrategy::kPlanar;
+  region.layers_rule = kLayersPlanar;
+  if (planar_mm2 < kUnsupportedNoiseMm2 || !rotary || !options.tilt_on_overhang) {
+    region.layers_why = planar_mm2 < kUnsupportedNoiseMm2 ? "planar layers leave no overhang"
+                        : !rotary                          ? "planar layers: the machine has no rotary axes"
+                                                           : "planar layers: the torch stays along the build direction (--no-tilt)";
+    return planar;
+  }
+  auto tilted = slicing::slice(region.mesh, tilted_options(region, machine, process, options), topology);
+  if (!tilted) return tilted;
+  const double tilted_mm2 = slicing::overhang_estimate_mm2(tilted.value(), process.self_supporting_deg, step);
+  const std::string figures = fmt::format("overhang {} mm2 on tilted layers, {} mm2 on planar", area_text(tilted_mm2), area_text(planar_mm2));
+  if (tilted_mm2 < kTiltedGainShare * planar_mm2) {
+    region.layers = slicing::LayerStrategy::kTilted;
+    region.layers_rule = kLayersTilted;
+    region.layers_why = figures;
+    return tilted;
+  }
+  region.layers_why = figures + ": tilted layers do no better";
+  return planar;
+}
+
+// Slices REGION (placed) along its direction, makes its toolpaths with the torch guarded, and
+// appends its layers to PLAN, numbered after those there. TOPOLOGY: the whole part's, for an
+// undivided part (null otherwise).
+core::Status add_region(Plan& plan, PlanRegion& region, const mesh::EdgeTopology* topology, const machine::MachineConfig& machine,
+                        const process::ProcessConfig& process, const PlanOptions& options) {
+  auto t0 = Clock::now();
+  auto layers = region_layers(region, topology, machine, process, options);
   if (!layers) return layers.error();
   plan.times.slice_s += since(t0);
   t0 = Clock::now();
@@ -353,6 +426,15 @@ core::Status add_region(Plan& plan, const PlanRegion& region, const mesh::EdgeTo
 }
 
 }  // namespace
+
+const char* layer_choice_name(LayerChoice c) {
+  switch (c) {
+    case LayerChoice::kPlanar: return "planar";
+    case LayerChoice::kTilted: return "tilted";
+    case LayerChoice::kAuto: return "auto";
+  }
+  return "?";
+}
 
 Placement rotation_to_z(Vec3 d) {
   Placement p;
@@ -409,12 +491,11 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   }
   if (auto s = place_checks(regions, machine, process, plan); !s) return s.error();
   plan.regions = static_cast<std::uint32_t>(regions.size());
-  plan.placed_regions = regions;
-
-  for (const PlanRegion& region : regions) {
+  for (PlanRegion& region : regions) {
     // The whole part's topology is valid only for the unsplit part.
     if (auto st = add_region(plan, region, given_regions.empty() ? &part.topology : nullptr, machine, process, options); !st) return st.error();
   }
+  plan.placed_regions = regions;
   if (plan.layers.layers.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: the part has no layers");
   auto t0 = Clock::now();
   order_layers(plan, machine, process);

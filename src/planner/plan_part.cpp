@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 #include <tbb/parallel_invoke.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -292,6 +293,26 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
   core::Status made = program_of(machine, process, options, out);
   if (made) made = relieve(machine, process, options, out);
   const bool mid_air = made && !out.check.mid_air_regions.empty(), collides = made && out.check.collisions > 0;
+  const bool tilted = std::any_of(out.plan.placed_regions.begin(), out.plan.placed_regions.end(),
+                                  [](const PlanRegion& r) { return r.layers == slicing::LayerStrategy::kTilted; });
+  if (options.plan.layers == LayerChoice::kAuto && tilted && (!made || mid_air || collides)) {
+    // Tilted layers whose program cannot be written or, read back, starts in mid-air or strikes
+    // something (the torch turned with the layers brings the head down to the plate): the whole
+    // choice again on planar layers, when that reads back clean.
+    PlanPartOptions planar = options;
+    planar.plan.layers = LayerChoice::kPlanar;
+    auto alt = plan_part(part, machine, process, planar);
+    if (alt && alt.value().check.collisions == 0 && alt.value().check.mid_air_regions.empty()) {
+      const std::string why = !made     ? fmt::format("the tilted layers' program cannot be written: {}", made.error().message)
+                              : mid_air ? fmt::format("read back, the tilted layers' region {} starts in mid-air", out.check.mid_air_regions.front())
+                                        : fmt::format("read back, the tilted layers' program strikes something at {} samples (the first: {})",
+                                                      out.check.collisions, describe(out.check.collision_list.front()));
+      alt.value().choice += fmt::format("; planar layers: {}", why);
+      for (PlanRegion& r : alt.value().plan.placed_regions) r.layers_rule = kLayersPlanar, r.layers_why = "tilted layers were refused: " + why;
+      alt.value().warnings.push_back(fmt::format("planar layers were chosen because {}", why));
+      return alt;
+    }
+  }
   if (options.strategy == Strategy::kAuto && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
     // The decomposition's program cannot be written (a limit of the machine that only shows in
     // the program, such as C winding past its end stops on a tilted region), or, read back, a

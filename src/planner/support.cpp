@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <tuple>
 
 #include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
@@ -20,6 +21,8 @@ constexpr double kPieceNoiseMm2 = 1e-3;
 // A layer within this of the table's top, built within kUprightCos of +Z, stands on the table.
 constexpr double kOnTableMm = 1e-6;
 constexpr double kUprightCos = 1e-9;
+// Two layers whose normals' dot product reaches this are parallel (planar slicing's are exactly).
+constexpr double kParallelCos = 1.0 - 1e-12;
 
 double angle_deg(Vec3 a, Vec3 b) {
   const double c = core::dot(core::normalized(a), core::normalized(b));
@@ -126,6 +129,7 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
     const Vec3 layer_d = ls[k].frame.d;
     r.height_mm = ls[k].height_mm;
     r.thickness_mm = ls[k].thickness_mm();
+    std::tie(r.min_thickness_mm, r.max_thickness_mm) = ls[k].thickness_range();
     r.area_mm2 = ls[k].area_mm2;
     const toolpath::LayerToolpaths& lt = plan.toolpaths[k];
     r.paths = static_cast<std::uint32_t>(lt.paths.size());
@@ -156,7 +160,15 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
     const double max_step = process.max_step_bead_share * bead;
     double t = r.thickness_mm;
     std::vector<geom2d::Polygon> below;
-    if (!first) t = ls[k].height_mm - ls[below_k].height_mm, below = ls[below_k].polygons;
+    if (!first) {
+      const slicing::Layer& under = ls[below_k];
+      if (core::dot(under.frame.d, layer_d) >= kParallelCos) {
+        t = ls[k].height_mm - under.height_mm, below = under.polygons;
+      } else {
+        // Tilted layers: the layer below seen along this one's normal, at its least thickness.
+        t = ls[k].thickness_range().first, below = slicing::project(under.polygons, under.frame, ls[k].frame);
+      }
+    }
     std::vector<geom2d::Polygon> pieces;
     double area = first ? r.area_mm2 : unsupported_area(below, t, ls[k], lt, alpha, bead, max_step, pieces);
     if (area >= kUnsupportedNoiseMm2 && region_index > 0) {

@@ -29,6 +29,7 @@ constexpr std::string_view kDefaultProcess = R"({
   "max_step_bead_share": 0.5,
   "adaptive_layers": true,
   "cusp_mm": 0.3,
+  "voldiff": 0.05,
   "substrate": {"thickness_mm": 10, "margin_mm": 10, "size_x_mm": 0, "size_y_mm": 0},
   "rules": {"interleave": true, "c_space_margin_mm": 0}
 }
@@ -85,7 +86,7 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   core::detail::ConfigReader r(source);
   if (!r.check_object(root, "", {"name", "bead_width_mm", "layer_mm", "layer_min_mm", "layer_max_mm",
                                  "self_supporting_deg", "deposit_feed_mm_s", "travel_feed_mm_s", "process_on",
-                                 "process_off", "dwell_on_s", "max_step_bead_share", "adaptive_layers", "cusp_mm", "substrate", "rules"})) {
+                                 "process_off", "dwell_on_s", "max_step_bead_share", "adaptive_layers", "cusp_mm", "voldiff", "substrate", "rules"})) {
     return r.error();
   }
   ProcessConfig p;
@@ -103,6 +104,7 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   p.max_step_bead_share = r.number(root, "", "max_step_bead_share", p.max_step_bead_share);
   p.adaptive_layers = r.boolean(root, "", "adaptive_layers", p.adaptive_layers);
   p.cusp_mm = r.number(root, "", "cusp_mm", p.cusp_mm);
+  p.voldiff = r.number(root, "", "voldiff", p.voldiff);
   if (r.has(root, "substrate")) {
     const json& s = root.at("substrate");
     if (!r.check_object(s, "substrate", {"thickness_mm", "margin_mm", "size_x_mm", "size_y_mm"})) return r.error();
@@ -123,6 +125,7 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
     r.fail(fmt::format("'max_step_bead_share' ({}) must be in (0, 1]: a bead must rest on the one below", p.max_step_bead_share));
   }
   if (!(p.cusp_mm > 0.0)) r.fail(fmt::format("'cusp_mm' ({}) must be > 0", p.cusp_mm));
+  if (!(p.voldiff > 0.0 && p.voldiff <= 2.0)) r.fail(fmt::format("'voldiff' ({}) must be in (0, 2]: a share of the larger section", p.voldiff));
   if (p.substrate.thickness_mm < 0.0) r.fail("'substrate.thickness_mm' must be >= 0");
   if (p.substrate.margin_mm < 0.0) r.fail("'substrate.margin_mm' must be >= 0");
   if (p.substrate.size_x_mm < 0.0 || p.substrate.size_y_mm < 0.0 || ((p.substrate.size_x_mm > 0.0) != (p.substrate.size_y_mm > 0.0))) {

@@ -137,6 +137,7 @@ PlanView make_plan_view(const planner::Plan& plan, const machine::MachineConfig&
     v.region = r.region;
     v.origin = l.frame.origin, v.u = l.frame.u, v.v = l.frame.v, v.normal = l.frame.d;
     v.thickness_mm = l.thickness_mm();
+    v.thickness_range_mm = {r.min_thickness_mm, r.max_thickness_mm};
     v.area_mm2 = l.area_mm2;
     v.unsupported_area_mm2 = r.unsupported_area_mm2;
     v.max_tilt_deg = r.max_tilt_deg;
@@ -177,8 +178,10 @@ std::string plan_view_json(const PlanView& view) {
                    r.parent ? fmt::to_string(*r.parent) : std::string("null"));
     put_vec(out, core::normalized(r.direction), 9);
     out += ",\"base_point\":", put_vec(out, r.base_point);
-    fmt::format_to(std::back_inserter(out), ",\"support_free\":{},\"volume_mm3\":{:.3f},\"overhang_mm2\":{:.3f},\"rule\":{},\"rests_on\":{},\"vertices\":",
+    fmt::format_to(std::back_inserter(out), ",\"support_free\":{},\"volume_mm3\":{:.3f},\"overhang_mm2\":{:.3f},\"rule\":{},\"rests_on\":{},",
                    r.support_free, mesh::signed_volume(r.mesh), r.overhang_mm2, nlohmann::json(r.rule).dump(), nlohmann::json(r.rests_on).dump());
+    fmt::format_to(std::back_inserter(out), "\"layers\":{{\"strategy\":\"{}\",\"rule\":{},\"why\":{}}},\"vertices\":",
+                   slicing::layer_strategy_name(r.layers), nlohmann::json(r.layers_rule).dump(), nlohmann::json(r.layers_why).dump());
     put_flat(out, r.mesh.vertices);
     out += ",\"triangles\":[";
     for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
@@ -212,9 +215,9 @@ std::string plan_view_json(const PlanView& view) {
     out += ",\"u\":", put_vec(out, l.u, 9);
     out += ",\"v\":", put_vec(out, l.v, 9);
     fmt::format_to(std::back_inserter(out),
-                   ",\"thickness_mm\":{:.6f},\"area_mm2\":{:.6f},\"unsupported_area_mm2\":{:.6f},\"max_tilt_deg\":{:.6f},\"paths\":{},"
-                   "\"tilt_deg\":[{:.6f},{:.6f}],\"c_deg\":[{:.6f},{:.6f}]",
-                   l.thickness_mm, l.area_mm2, l.unsupported_area_mm2, l.max_tilt_deg, l.paths, l.tilt_deg[0], l.tilt_deg[1],
+                   ",\"thickness_mm\":{:.6f},\"thickness_range_mm\":[{:.6f},{:.6f}],\"area_mm2\":{:.6f},\"unsupported_area_mm2\":{:.6f},"
+                   "\"max_tilt_deg\":{:.6f},\"paths\":{},\"tilt_deg\":[{:.6f},{:.6f}],\"c_deg\":[{:.6f},{:.6f}]",
+                   l.thickness_mm, l.thickness_range_mm[0], l.thickness_range_mm[1], l.area_mm2, l.unsupported_area_mm2, l.max_tilt_deg, l.paths, l.tilt_deg[0], l.tilt_deg[1],
                    l.c_deg[0], l.c_deg[1]);
     fmt::format_to(std::back_inserter(out), ",\"order\":{{\"region_layer\":{},\"level\":{},\"rule\":{},\"interferes_with\":{},\"interferences\":{}}}",
                    l.order.region_layer, l.order.level, nlohmann::json(l.order.rule).dump(), nlohmann::json(l.order.interferes_with).dump(),

@@ -154,6 +154,14 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
         region.volume_mm3 = get_finite(r.at("volume_mm3"));
         region.overhang_mm2 = get_finite(r.at("overhang_mm2"));
       }
+      if (r.contains("layers")) {  // plans written before tilted layers have none
+        const Json& l = r.at("layers");
+        const std::string strategy = l.at("strategy").get<std::string>();
+        if (strategy != "planar" && strategy != "tilted") throw std::runtime_error(fmt::format("region {}: unknown layer strategy '{}'", region.id, strategy));
+        region.layers = strategy == "tilted" ? slicing::LayerStrategy::kTilted : slicing::LayerStrategy::kPlanar;
+        region.layers_rule = l.at("rule").get<std::string>();
+        region.layers_why = l.at("why").get<std::string>();
+      }
       region.mesh.vertices = get_flat(r.at("vertices"));
       const Json& tris = r.at("triangles");
       if (!tris.is_array() || tris.size() % 3 != 0) throw std::runtime_error("a triangle list is not a multiple of 3 indices");
@@ -186,6 +194,13 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       layer.u = get_vec(l.at("u"));
       layer.v = get_vec(l.at("v"));
       layer.thickness_mm = l.at("thickness_mm").get<double>();
+      if (l.contains("thickness_range_mm")) {
+        const Json& range = l.at("thickness_range_mm");
+        if (!range.is_array() || range.size() != 2) throw std::runtime_error("\"thickness_range_mm\" is not a pair");
+        layer.thickness_range_mm = {get_finite(range[0]), get_finite(range[1])};
+      } else {
+        layer.thickness_range_mm = {layer.thickness_mm, layer.thickness_mm};
+      }
       layer.area_mm2 = l.at("area_mm2").get<double>();
       layer.unsupported_area_mm2 = l.at("unsupported_area_mm2").get<double>();
       layer.max_tilt_deg = l.at("max_tilt_deg").get<double>();

@@ -128,4 +128,18 @@ SectionResult section(const SectionContext& ctx, double h, const Frame& frame, s
   return result;
 }
 
+std::vector<geom2d::Polygon> project(const std::vector<geom2d::Polygon>& polygons, const Frame& from, const Frame& to) {
+  std::vector<geom2d::Ring> rings;
+  for (const geom2d::Ring& ring : geom2d::rings_of(polygons)) {
+    geom2d::Ring out;
+    out.reserve(ring.size());
+    for (const geom2d::Point& q : ring) {
+      const Vec3 w = from.to_world(geom2d::to_mm(q.x), geom2d::to_mm(q.y)) - to.origin;
+      out.push_back({geom2d::to_units(core::dot(w, to.u)), geom2d::to_units(core::dot(w, to.v))});
+    }
+    rings.push_back(std::move(out));
+  }
+  return geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
+}
+
 }  // namespace polyaxis::slicing

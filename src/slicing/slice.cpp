@@ -16,6 +16,7 @@
 #include "adaptive.h"
 #include "tilted.h"
 #include "polyaxis/core/progress.h"
+#include "polyaxis/geom2d/clip.h"
 #include "polyaxis/slicing/section.h"
 
 namespace polyaxis::slicing {
@@ -32,6 +33,22 @@ double plane_height(double base, double t, std::int64_t k) { return base + (stat
 }  // namespace
 
 const char* layer_strategy_name(LayerStrategy s) { return s == LayerStrategy::kTilted ? "tilted" : "planar"; }
+
+double overhang_estimate_mm2(const SliceResult& slices, double alpha_deg, double step_mm) {
+  constexpr double kParallelCos = 1.0 - 1e-12;
+  const double tan_a = std::tan(alpha_deg * 3.14159265358979323846 / 180.0);
+  double total = 0.0;
+  const std::vector<Layer>& ls = slices.layers;
+  for (std::size_t k = 1; k < ls.size(); ++k) {
+    const Layer &a = ls[k - 1], &b = ls[k];
+    const bool parallel = core::dot(a.frame.d, b.frame.d) >= kParallelCos;
+    const std::vector<geom2d::Polygon> under = parallel ? a.polygons : project(a.polygons, a.frame, b.frame);
+    const double t = parallel ? b.height_mm - a.height_mm : b.thickness_range().first;
+    const auto grown = geom2d::offset(under, std::max(t * tan_a, step_mm));
+    total += geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of(b.polygons), geom2d::rings_of(grown)));
+  }
+  return total;
+}
 
 core::Status validate(const SliceOptions& o) {
   if (!core::is_finite(o.direction) || core::norm(o.direction) < 1e-12) {

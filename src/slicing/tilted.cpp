@@ -87,22 +87,6 @@ class Cutter {
   SectionScratch scratch_;
 };
 
-// The polygons of BELOW projected along UPPER's normal onto its plane, in its (u, v) frame.
-std::vector<geom2d::Polygon> project(const Cut& below, const Frame& upper) {
-  auto map = [&](const geom2d::Ring& ring) {
-    geom2d::Ring out;
-    out.reserve(ring.size());
-    for (const geom2d::Point& q : ring) {
-      const Vec3 w = below.frame.to_world(geom2d::to_mm(q.x), geom2d::to_mm(q.y)) - upper.origin;
-      out.push_back({geom2d::to_units(core::dot(w, upper.u)), geom2d::to_units(core::dot(w, upper.v))});
-    }
-    return out;
-  };
-  std::vector<geom2d::Ring> rings;
-  for (const geom2d::Ring& r : geom2d::rings_of(below.s.polygons)) rings.push_back(map(r));
-  return geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
-}
-
 struct Verdict {
   bool ok = false;
   double t_min = 0.0, t_max = 0.0;
@@ -125,7 +109,7 @@ Verdict judge(const Cut& below, const Cut& upper, const SliceOptions& o) {
     if (core::dot(q, d) - upper.h > -kUnderShare * o.min_mm) return v;
   }
   if (!o.limits.voldiff && !o.limits.overhang_deg) return v.ok = true, v;
-  const std::vector<geom2d::Polygon> under = project(below, upper.frame);
+  const std::vector<geom2d::Polygon> under = project(below.s.polygons, below.frame, upper.frame);
   if (o.limits.voldiff) {
     const double denom = std::max(geom2d::area_mm2(under), upper.s.area_mm2);
     const auto band = geom2d::xor_rings(geom2d::rings_of(under), geom2d::rings_of(upper.s.polygons));

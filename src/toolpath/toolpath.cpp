@@ -18,6 +18,7 @@
 
 #include "overhang.h"
 #include "polyaxis/core/progress.h"
+#include "polyaxis/mesh/topology.h"
 #include "polyaxis/geom2d/clip.h"
 #include "zigzag.h"
 
@@ -337,12 +338,8 @@ core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh,
   std::vector<LayerToolpaths> result(layers.size());
   if (layers.empty()) return result;
   const Vec3 d = layers.front().frame.d;
-  for (const slicing::Layer& l : layers) {
-    if (!(core::norm(l.frame.d - d) < kSameDirection)) {
-      return make_error(ErrorCode::kUsage, fmt::format("layer {}: its direction differs from layer {}'s; toolpaths take the layers of one slicing",
-                                                       l.index, layers.front().index));
-    }
-  }
+  // Tilted layers (slicing::SliceOptions::tilted) each have their own direction.
+  const bool shared = std::all_of(layers.begin(), layers.end(), [&](const slicing::Layer& l) { return core::norm(l.frame.d - d) < kSameDirection; });
   std::unique_ptr<tbb::global_control> limit;
   if (options.threads > 0) {
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
@@ -353,7 +350,8 @@ core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh,
   const bool tilt = options.tilt_on_overhang && !mesh.triangles.empty();
   std::optional<slicing::SectionContext> ctx;
   std::vector<std::uint32_t> start, bucket, slot_of_layer(layers.size());
-  if (tilt) {
+  const mesh::EdgeTopology topology = tilt && !shared ? mesh::build_topology(mesh) : mesh::EdgeTopology{};
+  if (tilt && shared) {
     ctx.emplace(mesh, d);
     std::vector<std::uint32_t> by_height(layers.size());
     std::iota(by_height.begin(), by_height.end(), 0u);
@@ -389,10 +387,19 @@ core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh,
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layers.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       std::optional<detail::FacetLocator> facets;
-      if (tilt) {
+      std::optional<slicing::SectionContext> own;  // a tilted layer's direction
+      std::vector<std::uint32_t> own_faces;
+      if (tilt && shared) {
         const std::uint32_t k = slot_of_layer[i];
         const std::span<const std::uint32_t> faces(bucket.data() + start[k], start[k + 1] - start[k]);
         facets.emplace(*ctx, layers[i].height_mm, layers[i].frame, faces);
+      } else if (tilt) {
+        own.emplace(mesh, layers[i].frame.d, &topology);
+        const double h = layers[i].height_mm;
+        for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+          if (own->face_min(f) < h && h <= own->face_max(f)) own_faces.push_back(f);  // as the shared buckets (section.h's tie rule)
+        }
+        facets.emplace(*own, h, layers[i].frame, own_faces);
       }
       result[i] = LayerPlanner(mesh, options, layers[i], facets ? &*facets : nullptr).run();
     }

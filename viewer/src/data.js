@@ -134,6 +134,8 @@ function decodeLayer(l, k, npath) {
     origin: vec3(l.origin, `${what}.origin`, [0, 0, 0]),
     normal: normal.map((x) => x / len),
     thickness: num(l.thickness_mm, NaN),
+    // Least and largest over the layer: they differ on tilted layers (plans before them have none).
+    thicknessRange: range(l.thickness_range_mm ?? [l.thickness_mm, l.thickness_mm]),
     area: num(l.area_mm2, NaN),
     unsupportedArea: num(l.unsupported_area_mm2, 0),
     maxTilt: num(l.max_tilt_deg, NaN),

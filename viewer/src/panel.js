@@ -138,7 +138,8 @@ export function buildPanel(root, data, colorOf, extra) {
     layerInfo.append(kvList([
       ['normal', fmtVec(l.normal)],
       ['origin', fmtVec(l.origin, 2)],
-      ['thickness', `${fmtNum(l.thickness)} mm`],
+      ['thickness', `${fmtNum(l.thickness)} mm on the axis`],
+      ['thickness range', fmtRange(l.thicknessRange, ' mm')],
       ['area', `${fmtNum(l.area)} mm²`],
       ['unsupported', `${fmtNum(l.unsupportedArea)} mm²`, unsupported ? 'px-bad' : ''],
       ['max tilt', `${fmtNum(l.maxTilt)}°`],

@@ -23,8 +23,20 @@ namespace polyaxis::planner {
 
 using core::Vec3;
 
+// How a region's layers are made (--layers): parallel planes with adaptive thickness, tilted
+// "3-D" layers along the region's centroidal axis (slicing::SliceOptions::tilted), or, per region,
+// the one the support check favours (choose_layers in plan.cpp).
+enum class LayerChoice { kPlanar, kTilted, kAuto };
+const char* layer_choice_name(LayerChoice c);
+
+// Why a region's layers are what they are (PlanRegion::layers_rule).
+inline constexpr const char* kLayersAsked = "layers.asked";      // --layers planar|tilted
+inline constexpr const char* kLayersPlanar = "layers.planar";    // auto: planar layers leave no overhang, or tilted ones do no better
+inline constexpr const char* kLayersTilted = "layers.tilted";    // auto: tilted layers leave less overhang than planar ones
+
 struct PlanOptions {
   Vec3 direction{0, 0, 1};   // build direction in the part's frame
+  LayerChoice layers = LayerChoice::kAuto;
   bool tilt_on_overhang = true;  // Kapil Eq. 3 on overhanging outer contours (needs rotary axes)
   int perimeters = 2;
   double retract_mm = 5.0;   // lift along the tool axis between layers
@@ -59,6 +71,11 @@ struct PlanRegion {
   std::vector<std::uint32_t> rests_on;
   double volume_mm3 = 0.0;
   double overhang_mm2 = 0.0;
+  // The layers the region is built with, the rule that chose them (kLayers…) and the figures it
+  // compared (the overhang slicing::overhang_estimate_mm2 finds for each strategy tried).
+  slicing::LayerStrategy layers = slicing::LayerStrategy::kPlanar;
+  std::string layers_rule = kLayersAsked;
+  std::string layers_why;
 };
 
 struct LayerReport {
@@ -66,6 +83,7 @@ struct LayerReport {
   std::uint32_t region = 0;
   double height_mm = 0.0;
   double thickness_mm = 0.0;
+  double min_thickness_mm = 0.0, max_thickness_mm = 0.0;  // over the layer (slicing::Layer::thickness_range)
   double area_mm2 = 0.0;
   double unsupported_area_mm2 = 0.0;
   double max_tilt_deg = 0.0;

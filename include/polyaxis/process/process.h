@@ -28,6 +28,9 @@ struct ProcessConfig {
   // overhang step): on by default where the range is not a single value.
   bool adaptive_layers = true;
   double cusp_mm = 0.3;  // adaptive layers: largest staircase height t·|n·d| on the part's surface
+  // Tilted layers: the largest volumetric difference between adjacent layers (Ruan Eq. 9), as the
+  // area of the two sections' symmetric difference over the larger one's (slicing/tilted.cpp).
+  double voldiff = 0.05;
   // The substrate plate the part is built on (its top is the part's base, Z = 0 on the table):
   // THICKNESS, and either an explicit size (both > 0) or the part's footprint grown by MARGIN.
   struct Substrate {

@@ -28,6 +28,7 @@ struct ViewLayer {
   std::uint32_t region = 0;
   Vec3 origin, u{1, 0, 0}, v{0, 1, 0}, normal{0, 0, 1};
   double thickness_mm = 0.0;
+  std::array<double, 2> thickness_range_mm{0.0, 0.0};  // least and largest over the layer (tilted layers differ)
   double area_mm2 = 0.0;
   double unsupported_area_mm2 = 0.0;
   double max_tilt_deg = 0.0;

@@ -77,4 +77,9 @@ struct SectionResult {
 SectionResult section(const SectionContext& context, double h_mm, const Frame& frame, std::span<const std::uint32_t> candidates,
                       SectionScratch& scratch);
 
+// POLYGONS (in FROM's (u, v) frame) projected along TO's normal onto TO's plane, in TO's (u, v):
+// a layer's section seen from the next one when the two planes are not parallel (tilted layers).
+// The map is affine, so rings stay simple; they keep their turn while FROM.d·TO.d > 0.
+std::vector<geom2d::Polygon> project(const std::vector<geom2d::Polygon>& polygons, const Frame& from, const Frame& to);
+
 }  // namespace polyaxis::slicing

@@ -56,6 +56,13 @@ struct SliceResult {
 enum class LayerStrategy { kPlanar, kTilted };
 const char* layer_strategy_name(LayerStrategy s);
 
+// The area of every layer beyond the layer below it (projected along the layer's normal when the
+// two are not parallel) grown by max(t·tan ALPHA_DEG, STEP_MM), t the layer's least thickness,
+// summed over the layers after the first (mm²): the overhang a planner's support check would find
+// with the torch stepping out at most STEP_MM (planner/support.h). Cost: one offset and one
+// difference a layer.
+double overhang_estimate_mm2(const SliceResult& slices, double alpha_deg, double step_mm);
+
 // Checks OPTIONS (kUsage naming the option): finite non-zero direction, positive thicknesses,
 // min <= max, positive limits.
 core::Status validate(const SliceOptions& options);

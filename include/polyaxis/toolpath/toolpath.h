@@ -135,8 +135,10 @@ core::Status validate(const ToolpathOptions& options);
 // Closed paths give their last point (the repeated first) the first point's axis; travel points
 // take the axes of the points they join.
 //
-// Layers run in parallel (oneTBB); the output is the same at any thread count.
-// Errors: kUsage for bad options or layers of different directions. Cost per layer: the polygon
+// Layers run in parallel (oneTBB); the output is the same at any thread count. Layers of one
+// direction share the facet buckets; tilted layers (each its own direction) find their facets
+// alone, O(F) more a layer.
+// Errors: kUsage for bad options. Cost per layer: the polygon
 // offsets (O(n log n) each, perimeters + fill rings of them) plus O(p²) greedy ordering for p paths.
 core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh, const slicing::SliceResult& layers,
                                                          const ToolpathOptions& options);

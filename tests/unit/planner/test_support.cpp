@@ -119,16 +119,28 @@ TEST(SupportCheck, ARoundBarBentThrough110DegreesIsNotSupportFreeOnPlanarLayers)
   auto machine = machine::parse_machine(machine::default_machine_json(), "default");
   auto process = process::parse_process(process::default_process_json(), "default");
   ASSERT_TRUE(machine.ok() && process.ok());
+  PlanOptions planar;
+  planar.layers = LayerChoice::kPlanar;
+  PlanOptions tilted;
+  tilted.layers = LayerChoice::kTilted;
   for (const auto& [bend, bar, sweep] : {std::tuple{30.0, 5.0, 110.0}, std::tuple{45.0, 8.0, 100.0}, std::tuple{25.0, 4.0, 130.0}}) {
     const mesh::RepairedMesh m = repaired(polyaxis::test::bent_bar(bend, bar, sweep, 48, 24));
-    auto plan = make_plan(m, machine.value(), process.value(), PlanOptions{});
+    auto plan = make_plan(m, machine.value(), process.value(), planar);
     ASSERT_TRUE(plan.ok()) << plan.error().message;
     EXPECT_GT(plan.value().unsupported_area_mm2, 10.0) << bend << " " << bar << " " << sweep;
     EXPECT_GT(plan.value().max_tilt_deg, 30.0);  // the torch does tilt on the outer bend
+    // Tilted layers follow the bar: the same support check finds nothing hanging (issue 13). The
+    // far end faces down towards the plate: a slim nozzle (no cylinder) reaches it.
+    machine::MachineConfig slim = machine.value();
+    slim.nozzle.cylinder_radius_mm = 0.0, slim.nozzle.cylinder_height_mm = 0.0, slim.nozzle.cone_height_mm = 8.0;
+    auto followed = make_plan(m, slim, process.value(), tilted);
+    ASSERT_TRUE(followed.ok()) << followed.error().message;
+    EXPECT_EQ(followed.value().unsupported_area_mm2, 0.0) << bend << " " << bar << " " << sweep;
+    EXPECT_EQ(followed.value().placed_regions.front().layers, slicing::LayerStrategy::kTilted);
   }
   // Bent through 20° only, the lean stays within what the tilted torch allows.
   const mesh::RepairedMesh gentle = repaired(polyaxis::test::bent_bar(60.0, 5.0, 20.0, 48, 24));
-  auto plan = make_plan(gentle, machine.value(), process.value(), PlanOptions{});
+  auto plan = make_plan(gentle, machine.value(), process.value(), planar);
   ASSERT_TRUE(plan.ok()) << plan.error().message;
   EXPECT_EQ(plan.value().unsupported_area_mm2, 0.0);
 }

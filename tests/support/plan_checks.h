@@ -1,0 +1,129 @@
+// What every e2e plan test checks of a plan written by the CLI: the program read back through
+// forward kinematics (readback.h) and LinuxCNC's rs274 reading the same axis words.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
+#include "support/cli.h"
+#include "support/readback.h"
+
+namespace polyaxis::test {
+
+inline nlohmann::json read_json(const std::filesystem::path& p) { return nlohmann::json::parse(slurp(p)); }
+
+inline std::string rs274_path() {
+  for (const char* p : {"/usr/bin/rs274", "/usr/local/bin/rs274"}) {
+    if (std::filesystem::exists(p)) return p;
+  }
+  return {};
+}
+
+// The axis words of every G0/G1 block in OUR file, in order, carried forward like a controller.
+inline std::vector<std::array<double, 6>> our_positions(const std::string& gcode) {
+  std::vector<std::array<double, 6>> out;
+  std::array<double, 6> pos{0, 0, 0, 0, 0, 0};
+  std::istringstream in(gcode);
+  std::string line;
+  const std::string letters = "XYZABC";
+  while (std::getline(in, line)) {
+    const auto paren = line.find('(');
+    if (paren != std::string::npos) line = line.substr(0, paren);
+    if (!std::regex_search(line, std::regex("\\bG[01]\\b|^G[01] |^G0|^G1"))) continue;
+    bool moved = false;
+    for (std::size_t i = 0; i < 6; ++i) {
+      const auto at = line.find(letters[i]);
+      if (at == std::string::npos) continue;
+      pos[i] = std::stod(line.substr(at + 1));
+      moved = true;
+    }
+    if (moved) out.push_back(pos);
+  }
+  return out;
+}
+
+// rs274's canonical STRAIGHT_FEED / STRAIGHT_TRAVERSE positions (x y z a b c).
+inline std::vector<std::array<double, 6>> rs274_positions(const std::string& canon) {
+  std::vector<std::array<double, 6>> out;
+  const std::regex call("(STRAIGHT_FEED|STRAIGHT_TRAVERSE)\\(([^)]*)\\)");
+  for (auto it = std::sregex_iterator(canon.begin(), canon.end(), call); it != std::sregex_iterator(); ++it) {
+    std::stringstream s((*it)[2].str());
+    std::array<double, 6> p{};
+    std::string item;
+    for (std::size_t i = 0; i < 6 && std::getline(s, item, ','); ++i) p[i] = std::stod(item);
+    out.push_back(p);
+  }
+  return out;
+}
+
+// The program in DIR read back (support/readback.h) on the default machine and process, with the
+// plate report.json states; checks what every plan must hold and returns the reading.
+// ALLOW_COLLISIONS: a plan written with --allow-collisions, whose collisions are listed.
+inline ReadBack check_readback(const std::filesystem::path& dir, const std::string& name, bool allow_collisions = false) {
+  auto machine = machine::parse_machine(machine::default_machine_json(), "default");
+  auto process = process::parse_process(process::default_process_json(), "default");
+  EXPECT_TRUE(machine.ok() && process.ok());
+  const auto report = read_json(dir / "report.json");
+  const auto& sub = report["substrate"];
+  const Plate plate{sub["x_mm"][0].get<double>(), sub["x_mm"][1].get<double>(), sub["y_mm"][0].get<double>(), sub["y_mm"][1].get<double>(),
+                    sub["top_z_mm"].get<double>(), sub["top_z_mm"].get<double>() - sub["thickness_mm"].get<double>()};
+  const process::ProcessConfig& p = process.value();
+  const double spacing = p.bead_width_mm / 4.0;
+  const double step = std::max(p.max_step_bead_share * p.bead_width_mm, p.layer_max_mm * std::tan(p.self_supporting_deg * M_PI / 180.0));
+  const double reach = std::hypot(std::max(p.layer_max_mm, 0.5 * (p.layer_max_mm + p.bead_width_mm)), std::max(0.5 * p.bead_width_mm, step)) + spacing;
+  const ReadBack rb = read_back(machine.value(), p, plate, slurp(dir / (name + ".ngc")), reach, spacing);
+  EXPECT_GT(rb.deposit_samples, 0u) << name;
+  EXPECT_EQ(rb.head_below, 0u) << name << ": " << rb.worst_head_mm << " mm; " << rb.first_problem;
+  EXPECT_LE(rb.slow_s, 0.01 * rb.on_s) << name;
+  EXPECT_TRUE(rb.regions_starting_in_air.empty()) << name << ": " << rb.first_problem;
+  if (report["support_free"].get<bool>()) {
+    EXPECT_EQ(rb.ungrounded, 0u) << name << ": " << rb.first_problem;
+  }
+  // The library's own verification of the same program agrees, and finds the head clear of the
+  // deposit everywhere (a plan with collisions is refused unless --allow-collisions).
+  if (!allow_collisions) {
+    EXPECT_EQ(report["collisions"].get<int>(), 0) << name << report["collision_list"];
+  }
+  const auto& check = report["build_check"];
+  EXPECT_EQ(check["head_collisions"].get<int>(), 0) << name;
+  EXPECT_TRUE(check["mid_air_regions"].empty()) << name;
+  EXPECT_LE(check["stalled_s"].get<double>(), 0.01 * check["process_on_s"].get<double>()) << name;
+  if (report["support_free"].get<bool>()) {
+    EXPECT_EQ(check["ungrounded_samples"].get<int>(), 0) << name << check["problems"];
+  }
+  return rb;
+}
+
+// rs274 accepts the program NGC (in DIR) and reads the same axis positions as its words say, to
+// 1 µm / 0.001°; skipped (false) when rs274 is not installed.
+inline bool expect_rs274_reads(const std::filesystem::path& dir, const std::filesystem::path& ngc) {
+  const std::string rs274 = rs274_path();
+  if (rs274.empty()) return false;
+  const auto canon = dir / "canon.txt";
+  const int status = std::system(("'" + rs274 + "' -g '" + ngc.string() + "' '" + canon.string() + "' >/dev/null 2>&1 </dev/null").c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rs274 refused " << ngc;
+  const auto theirs = rs274_positions(slurp(canon));
+  const auto ours = our_positions(slurp(ngc));
+  EXPECT_FALSE(theirs.empty());
+  EXPECT_EQ(theirs.size(), ours.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < std::min(ours.size(), theirs.size()); ++i) {
+    for (std::size_t k = 0; k < 6; ++k) worst = std::max(worst, std::fabs(ours[i][k] - theirs[i][k]));
+  }
+  EXPECT_LE(worst, 1e-3) << "rs274 reads different positions";
+  return true;
+}
+
+}  // namespace polyaxis::test
