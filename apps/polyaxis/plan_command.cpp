@@ -172,6 +172,7 @@ int run_plan(PlanCommandOptions& o) {
   report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc", loaded.value().read_s, loaded.value().repair_s,
                         job.gcode_s, job.simulate_s, job.verify_s, "", "", ""};
   meta.strategy = planner::strategy_name(job.strategy_used);
+  meta.choose_s = job.choose_s;
   meta.choice = job.choice;
   std::string report_text;
   if (auto s = write_plan_set(o, job, machine, process, meta, report_text); !s) return report_error(s.error());

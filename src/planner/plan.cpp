@@ -10,6 +10,7 @@
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/planner/plan_part.h"
 #include "clearance.h"
+#include "fidelity.h"
 #include "reach.h"
 #include "sequence.h"
 #include "support.h"
@@ -507,6 +508,9 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   t0 = Clock::now();
   detail::check_support(plan, process);
   plan.times.support_s = since(t0);
+  t0 = Clock::now();
+  detail::measure_fidelity(plan, std::abs(mesh::signed_volume(part.mesh)));
+  plan.times.fidelity_s = since(t0);
   if (auto s = first_deposit_on_plate(plan, process); !s) return s.error();
   t0 = Clock::now();
 

@@ -284,8 +284,10 @@ const char* strategy_name(Strategy s) {
 core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                        const process::ProcessConfig& process, const PlanPartOptions& options) {
   PlanPartResult out;
+  const auto t_choose = Clock::now();
   auto chosen = choose(part, machine, process, options, out.choice);
   if (!chosen) return chosen.error();
+  out.choose_s = since(t_choose);
   out.plan = std::move(chosen.value().plan);
   out.axis = std::move(chosen.value().axis);
   out.strategy_used = chosen.value().strategy;

@@ -40,6 +40,9 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
   j["thin_regions"] = plan.thin_regions;
   j["thin_area_mm2"] = plan.thin_area_mm2;
   j["volume_estimate_mm3"] = plan.layers.volume_estimate_mm3;
+  j["fidelity"] = {{"max_cusp_mm", plan.fidelity.max_cusp_mm},
+                   {"volume_difference_mm3", plan.fidelity.volume_difference_mm3},
+                   {"volume_difference_share", plan.fidelity.volume_difference_share}};
   j["moves"] = sim.moves;
   j["limit_violations"] = sim.limit_violations;
   j["max_tip_deviation_mm"] = sim.max_tip_deviation_mm;
@@ -89,9 +92,11 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
 std::string timings_json(const planner::Plan& plan, const PlanMeta& meta) {
   nlohmann::ordered_json j;
   if (!meta.set_id.empty()) j["set_id"] = meta.set_id;
-  j["timings_s"] = {{"read", meta.read_s},           {"repair", meta.repair_s},         {"slice", plan.times.slice_s},
-                    {"toolpath", plan.times.toolpath_s}, {"program", plan.times.program_s}, {"support", plan.times.support_s},
-                    {"gcode", meta.gcode_s},           {"simulate", meta.simulate_s}, {"verify", meta.verify_s}};
+  // choose: every candidate plan tried, the chosen one's slice … fidelity included.
+  j["timings_s"] = {{"read", meta.read_s},           {"repair", meta.repair_s},         {"choose", meta.choose_s},
+                    {"slice", plan.times.slice_s},   {"toolpath", plan.times.toolpath_s}, {"sequence", plan.times.sequence_s},
+                    {"support", plan.times.support_s}, {"fidelity", plan.times.fidelity_s}, {"program", plan.times.program_s},
+                    {"gcode", meta.gcode_s},           {"simulate", meta.simulate_s},     {"verify", meta.verify_s}};
   return j.dump(2) + "\n";
 }
 

@@ -137,6 +137,7 @@ struct StageTimes {
   double program_s = 0.0;
   double support_s = 0.0;
   double sequence_s = 0.0;
+  double fidelity_s = 0.0;
 };
 
 // Where the part stands on the table: table = rotation · part + translation. The rotation is the
@@ -165,8 +166,16 @@ inline constexpr const char* kReorientRegion = "reorient.region";  // the next l
 inline constexpr const char* kReorientLayer = "reorient.layer";    // the next layer of the region starts with another tilt
 inline constexpr const char* kReorientTilt = "reorient.tilt";      // the torch tilt changes along a layer
 
+// How closely the layers reproduce the part (SPEC §3; planner/fidelity.h says how it is measured).
+struct Fidelity {
+  double max_cusp_mm = 0.0;              // the largest staircase height
+  double volume_difference_mm3 = 0.0;    // the symmetric difference between the deposited layers and the part
+  double volume_difference_share = 0.0;  // of the part's volume
+};
+
 struct Plan {
   StageTimes times;
+  Fidelity fidelity;
   slicing::SliceResult layers;
   std::vector<toolpath::LayerToolpaths> toolpaths;
   std::vector<post::ProgramPoint> program;  // tool tip and axis, part frame

@@ -48,7 +48,9 @@ struct PlanPartResult {
   Strategy strategy_used = Strategy::kSingle;
   std::string choice;                    // what was chosen and why, one sentence
   std::vector<std::string> warnings;     // not support-free regions, thin regions, ...
-  double gcode_s = 0.0, simulate_s = 0.0, verify_s = 0.0;
+  // choose_s: choosing the plan (every candidate tried: directions, decompositions, layers), which
+  // includes the chosen plan's own stages (Plan::times).
+  double choose_s = 0.0, gcode_s = 0.0, simulate_s = 0.0, verify_s = 0.0;
   post::GcodeStats gcode_stats;         // blocks the machine's axis limits slowed
 };
 

@@ -27,6 +27,7 @@ struct PlanMeta {
   // plan.json's report, report.html, the G-code's first comment), so that files of two runs are
   // told apart. Empty: not written.
   std::string set_id;
+  double choose_s = 0.0;  // planner::PlanPartResult::choose_s
 };
 
 // report.json: the metrics of SPEC §3 (schema in docs/plan.md). SIM is the simulation of the
