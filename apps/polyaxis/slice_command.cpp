@@ -24,6 +24,7 @@ struct SliceCommandOptions {
   std::string out_dir = "slices";
   bool svg = false;
   bool json = false;
+  bool tilted = false;
   slicing::SliceOptions slice;
 };
 
@@ -80,6 +81,16 @@ core::Status parse(SliceCommandOptions& o) {
       o.slice.thickness_stock_mm.push_back(v.value());
     }
   }
+  if (o.tilted) {
+    // Tilted layers take the thickness range and the voldiff and overhang limits (slice.h).
+    if (o.slice.limits.cusp_mm || o.slice.limits.area_deviation || o.slice.snap_mm > 0.0 || !o.slice.thickness_stock_mm.empty()) {
+      return core::make_error(core::ErrorCode::kUsage,
+                              "--tilted takes --layer (the step on the axis), --min, --max and --adaptive voldiff=,overhang=; cusp, "
+                              "area, --snap and --thicknesses are for planar layers");
+    }
+    o.slice.tilted = true;
+    o.slice.adaptive = false;
+  }
   return slicing::validate(o.slice);
 }
 
@@ -118,9 +129,9 @@ int run_slice(SliceCommandOptions& o) {
     std::printf("%s\n", report::slice_summary_json(r, meta).c_str());
   } else {
     double tmin = r.layers.empty() ? 0.0 : 1e300, tmax = 0.0;
-    for (const auto& l : r.layers) tmin = std::min(tmin, l.thickness_mm()), tmax = std::max(tmax, l.thickness_mm());
-    std::printf("%zu layers (%.4g-%.4g mm) along (%.4g, %.4g, %.4g), area %.1f mm2, volume estimate %.1f mm3 -> %s/layers.json\n",
-                r.layers.size(), tmin, tmax, o.slice.direction.x, o.slice.direction.y, o.slice.direction.z, r.total_area_mm2,
+    for (const auto& l : r.layers) tmin = std::min(tmin, l.thickness_range().first), tmax = std::max(tmax, l.thickness_range().second);
+    std::printf("%zu %slayers (%.4g-%.4g mm) %s (%.4g, %.4g, %.4g), area %.1f mm2, volume estimate %.1f mm3 -> %s/layers.json\n",
+                r.layers.size(), o.tilted ? "tilted " : "", tmin, tmax, o.tilted ? "from" : "along", o.slice.direction.x, o.slice.direction.y, o.slice.direction.z, r.total_area_mm2,
                 r.volume_estimate_mm3, o.out_dir.c_str());
   }
   return 0;
@@ -146,6 +157,9 @@ Runner add_slice_command(CLI::App& app) {
   cmd->add_option("--thicknesses", o->thicknesses, "Adaptive: thicknesses to choose from, mm, e.g. 0.5,1,2 (a sheet stock)");
   cmd->add_option("-o,--out", o->out_dir, "Output directory for layers.json and SVGs")->capture_default_str();
   cmd->add_flag("--svg", o->svg, "Also write one SVG per layer");
+  cmd->add_flag("--tilted", o->tilted,
+                "Tilted \"3-D\" layers along the centroidal axis (Ruan): --layer is the step on the axis, every thickness stays in "
+                "[--min, --max]; limits from --adaptive voldiff=,overhang=");
   cmd->add_flag("--json", o->json, "Print a JSON summary instead of one line");
   cmd->add_option("--threads", o->slice.threads, "Worker threads (0: all cores); output is identical for any count");
 

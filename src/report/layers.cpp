@@ -48,12 +48,12 @@ std::string vec(core::Vec3 v) { return fmt::format("[{:.9g},{:.9g},{:.9g}]", v.x
 
 ordered_json summary(const slicing::SliceResult& r, const LayersMeta& meta) {
   double tmin = std::numeric_limits<double>::infinity(), tmax = 0.0;
-  for (const auto& l : r.layers) tmin = std::min(tmin, l.thickness_mm()), tmax = std::max(tmax, l.thickness_mm());
+  for (const auto& l : r.layers) tmin = std::min(tmin, l.thickness_range().first), tmax = std::max(tmax, l.thickness_range().second);
   ordered_json j;
   j["part"] = meta.part;
   j["direction"] = {core::normalized(meta.options.direction).x, core::normalized(meta.options.direction).y,
                     core::normalized(meta.options.direction).z};
-  j["mode"] = meta.options.adaptive ? "adaptive" : "uniform";
+  j["mode"] = meta.options.tilted ? "tilted" : meta.options.adaptive ? "adaptive" : "uniform";
   j["layers"] = r.layers.size();
   j["total_area_mm2"] = r.total_area_mm2;
   j["volume_estimate_mm3"] = r.volume_estimate_mm3;
@@ -68,9 +68,9 @@ std::string layer_json(const slicing::Layer& l) {
   std::string out;
   fmt::format_to(std::back_inserter(out),
                  "{{\"index\":{},\"origin\":{},\"normal\":{},\"u\":{},\"v\":{},\"height_mm\":{:.9g},\"thickness_mm\":{:.9g},"
-                 "\"below_mm\":{:.9g},\"above_mm\":{:.9g},\"area_mm2\":{:.9g},\"polygons\":[",
+                 "\"thickness_range_mm\":[{:.9g},{:.9g}],\"below_mm\":{:.9g},\"above_mm\":{:.9g},\"area_mm2\":{:.9g},\"polygons\":[",
                  l.index, vec(l.frame.origin), vec(l.frame.d), vec(l.frame.u), vec(l.frame.v), l.height_mm, l.thickness_mm(),
-                 l.below_mm, l.above_mm, l.area_mm2);
+                 l.thickness_range().first, l.thickness_range().second, l.below_mm, l.above_mm, l.area_mm2);
   for (std::size_t p = 0; p < l.polygons.size(); ++p) {
     if (p) out += ',';
     out += "{\"outer\":";

@@ -20,7 +20,8 @@
 // previous one at ΔL_min is taken and counted in limit_violations (as the adaptive slicer does).
 // The layers end where the section parallel to the previous plane at ΔL_min is empty.
 //
-// Every trial cuts the whole mesh along its own direction (O(V + F) a cut; a layer takes a few).
+// Every trial cuts the mesh along its own direction: O(V) for the heights plus the faces of the
+// clusters the plane passes through (Cutter); a layer takes a few.
 #include "tilted.h"
 
 #include <fmt/format.h>
@@ -58,9 +59,47 @@ struct Cut {
   bool empty() const { return s.polygons.empty() || s.area_mm2 <= 0.0; }
 };
 
+// Cuts the mesh by arbitrary planes. Faces are kept in spatial clusters (Morton order of their
+// centroids, kClusterFaces a cluster) with bounding spheres, so a cut visits only the clusters
+// its plane passes through.
 class Cutter {
  public:
-  Cutter(const mesh::Mesh& mesh, const mesh::EdgeTopology& topology) : mesh_(mesh), topology_(topology) {}
+  Cutter(const mesh::Mesh& mesh, const mesh::EdgeTopology& topology) : mesh_(mesh), topology_(topology) {
+    const std::size_t nf = mesh.triangles.size();
+    core::Box3 box;
+    for (const Vec3& v : mesh.vertices) box.add(v);
+    const Vec3 size = box.max - box.min;
+    const double scale = 1023.0 / std::max({size.x, size.y, size.z, 1e-9});
+    auto spread = [](std::uint64_t x) {  // 10 bits to every third of 30
+      x &= 0x3ff;
+      x = (x | (x << 16)) & 0x30000ff;
+      x = (x | (x << 8)) & 0x300f00f;
+      x = (x | (x << 4)) & 0x30c30c3;
+      return (x | (x << 2)) & 0x9249249;
+    };
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(nf);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      const auto& t = mesh.triangles[f];
+      const Vec3 c = (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0 - box.min;
+      keyed[f] = {spread(static_cast<std::uint64_t>(c.x * scale)) | spread(static_cast<std::uint64_t>(c.y * scale)) << 1 |
+                      spread(static_cast<std::uint64_t>(c.z * scale)) << 2,
+                  f};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (std::size_t i = 0; i < nf; i += kClusterFaces) {
+      Cluster c;
+      c.first = static_cast<std::uint32_t>(order_.size());
+      core::Box3 b;
+      for (std::size_t j = i; j < std::min(nf, i + kClusterFaces); ++j) {
+        order_.push_back(keyed[j].second);
+        for (const std::uint32_t v : mesh.triangles[keyed[j].second]) b.add(mesh.vertices[v]);
+      }
+      c.count = static_cast<std::uint32_t>(order_.size()) - c.first;
+      c.centre = (b.min + b.max) * 0.5;
+      c.radius = 0.5 * core::norm(b.max - b.min);
+      clusters_.push_back(c);
+    }
+  }
 
   Cut cut(Vec3 n, double h) {
     Cut c;
@@ -68,9 +107,14 @@ class Cutter {
     c.h = h;
     const SectionContext ctx(mesh_, c.frame.d, &topology_);
     faces_.clear();
-    for (std::uint32_t f = 0; f < mesh_.triangles.size(); ++f) {
-      if (ctx.face_min(f) <= h && ctx.face_max(f) >= h) faces_.push_back(f);
+    for (const Cluster& cl : clusters_) {
+      if (std::fabs(core::dot(cl.centre, c.frame.d) - h) > cl.radius) continue;
+      for (std::uint32_t i = cl.first; i < cl.first + cl.count; ++i) {
+        const std::uint32_t f = order_[i];
+        if (ctx.face_min(f) <= h && ctx.face_max(f) >= h) faces_.push_back(f);
+      }
     }
+    std::sort(faces_.begin(), faces_.end());  // face order: the same section whatever the clusters
     c.s = section(ctx, h, c.frame, faces_, scratch_);
     const geom2d::Centroid g = geom2d::centroid(c.s.polygons);
     c.centroid = c.frame.to_world(g.x, g.y);
@@ -81,8 +125,16 @@ class Cutter {
   }
 
  private:
+  static constexpr std::size_t kClusterFaces = 32;
+  struct Cluster {
+    Vec3 centre;
+    double radius = 0.0;
+    std::uint32_t first = 0, count = 0;
+  };
   const mesh::Mesh& mesh_;
   const mesh::EdgeTopology& topology_;
+  std::vector<std::uint32_t> order_;  // faces in cluster order
+  std::vector<Cluster> clusters_;
   std::vector<std::uint32_t> faces_;
   SectionScratch scratch_;
 };
@@ -164,8 +216,15 @@ std::optional<Candidate> next_plane(Cutter& cutter, const Cut& below, const Slic
     const Vec3 to_probe = probe.centroid - below.centroid;
     const Vec3 link = core::dot(to_probe, n) > 0.0 ? core::normalized(to_probe) : n;
     std::optional<Candidate> here;
-    double fail = 0.0;  // the smallest turn known to fail (0: none yet)
-    for (double s = 1.0;; s *= 0.5) {
+    // On the plane through c + D·Δ, the point over a corner q of the section below is (c − q)·D + Δ
+    // thick, and (c − q)·D grows about linearly with the turn s: start from the turn that keeps
+    // the corners below in range (the section above is much like them), not from the whole link.
+    double spread = 0.0;
+    for (const Vec3& q : below.corners) spread = std::max(spread, std::fabs(core::dot(below.centroid - q, link - n)));
+    const double slack = std::min(o.max_mm - step, step - o.min_mm);
+    const double start = spread * 1.0 > slack && spread > 0.0 ? std::max(slack, 0.0) / spread : 1.0;
+    double fail = start < 1.0 ? std::min(1.0, 2.0 * start) : 0.0;  // a turn above the passing one to bisect towards
+    for (double s = start;; s *= 0.5) {
       Cut trial = turned(cutter, below, n, link, s, step);
       const Verdict v = judge(below, trial, o);
       if (v.ok) {

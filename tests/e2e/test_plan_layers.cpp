@@ -222,3 +222,37 @@ TEST(PlanLayers, TiltedLayersNeedRotaryAxesAndTheTorchTurning) {
 
 }  // namespace
 }  // namespace polyaxis::test
+
+namespace polyaxis::test {
+namespace {
+
+// `polyaxis slice --tilted`: the layers alone, with each one's thickness range in layers.json.
+TEST(SliceTilted, WritesTiltedLayersWithTheirThicknessRange) {
+  TempDir dir;
+  const auto stl = dir / "bar.stl";
+  write_file(stl, binary_stl(bent_bar(45, 7, 80, 36, 16)));
+  const auto r = run_cli("slice '" + stl.string() + "' --tilted --layer 0.6 --min 0.3 --max 0.7 --adaptive voldiff=0.05,overhang=30 -o '" +
+                         dir.path().string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("tilted layers"), std::string::npos) << r.out;
+  const auto layers = read_json(dir / "layers.json");
+  EXPECT_EQ(layers["summary"]["mode"], "tilted");
+  double least = INFINITY, most = 0.0, turn = 0.0;
+  core::Vec3 previous{0, 0, 1};
+  for (const auto& l : layers["layers"]) {
+    least = std::min(least, l["thickness_range_mm"][0].get<double>()), most = std::max(most, l["thickness_range_mm"][1].get<double>());
+    const core::Vec3 n{l["normal"][0].get<double>(), l["normal"][1].get<double>(), l["normal"][2].get<double>()};
+    turn = std::max(turn, std::acos(std::clamp(core::dot(n, previous), -1.0, 1.0)) * 180.0 / M_PI);
+    previous = n;
+  }
+  EXPECT_GE(least, 0.3 - 1e-6);
+  EXPECT_LE(most, 0.7 + 1e-6);
+  EXPECT_GT(turn, 0.2);
+  // The planar-only limits are refused with --tilted.
+  const auto bad = run_cli("slice '" + stl.string() + "' --tilted --adaptive cusp=0.1 -o '" + dir.path().string() + "'");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("planar layers"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace polyaxis::test
