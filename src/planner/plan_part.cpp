@@ -281,8 +281,15 @@ const char* strategy_name(Strategy s) {
   return "?";
 }
 
-core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                       const process::ProcessConfig& process, const PlanPartOptions& options) {
+bool uses_tilted(const Plan& plan) {
+  return std::any_of(plan.placed_regions.begin(), plan.placed_regions.end(),
+                     [](const PlanRegion& r) { return r.layers == slicing::LayerStrategy::kTilted; });
+}
+
+// plan_part with the layers OPTIONS.plan.layers asks for (plan_part adds the comparison of auto
+// layers with planar ones).
+core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                                const process::ProcessConfig& process, const PlanPartOptions& options) {
   PlanPartResult out;
   const auto t_choose = Clock::now();
   auto chosen = choose(part, machine, process, options, out.choice);
@@ -295,15 +302,13 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
   core::Status made = program_of(machine, process, options, out);
   if (made) made = relieve(machine, process, options, out);
   const bool mid_air = made && !out.check.mid_air_regions.empty(), collides = made && out.check.collisions > 0;
-  const bool tilted = std::any_of(out.plan.placed_regions.begin(), out.plan.placed_regions.end(),
-                                  [](const PlanRegion& r) { return r.layers == slicing::LayerStrategy::kTilted; });
-  if (options.plan.layers == LayerChoice::kAuto && tilted && (!made || mid_air || collides)) {
+  if (options.plan.layers == LayerChoice::kAuto && uses_tilted(out.plan) && (!made || mid_air || collides)) {
     // Tilted layers whose program cannot be written or, read back, starts in mid-air or strikes
     // something (the torch turned with the layers brings the head down to the plate): the whole
     // choice again on planar layers, when that reads back clean.
     PlanPartOptions planar = options;
     planar.plan.layers = LayerChoice::kPlanar;
-    auto alt = plan_part(part, machine, process, planar);
+    auto alt = plan_part_as_asked(part, machine, process, planar);
     if (alt && alt.value().check.collisions == 0 && alt.value().check.mid_air_regions.empty()) {
       const std::string why = !made     ? fmt::format("the tilted layers' program cannot be written: {}", made.error().message)
                               : mid_air ? fmt::format("read back, the tilted layers' region {} starts in mid-air", out.check.mid_air_regions.front())
@@ -378,6 +383,32 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
     out.warnings.push_back(fmt::format("read back, region {} starts in mid-air: its first bead rests on nothing", out.check.mid_air_regions.front()));
   }
   return out;
+}
+
+core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                       const process::ProcessConfig& process, const PlanPartOptions& options) {
+  auto first = plan_part_as_asked(part, machine, process, options);
+  if (options.plan.layers != LayerChoice::kAuto || !first || !uses_tilted(first.value().plan)) return first;
+  // Auto layers took tilted ones somewhere, judged region by region on the slices alone: the
+  // whole choice on planar layers too, and the better plan as built (read back clean first, then
+  // less unsupported area, fewer regions, fewer reorientations).
+  PlanPartOptions planar_options = options;
+  planar_options.plan.layers = LayerChoice::kPlanar;
+  auto planar = plan_part_as_asked(part, machine, process, planar_options);
+  if (!planar) return first;
+  auto clean = [](const PlanPartResult& r) { return r.check.collisions == 0 && r.check.mid_air_regions.empty(); };
+  const bool take_planar = clean(planar.value()) != clean(first.value()) ? clean(planar.value()) : better(planar.value().plan, first.value().plan);
+  PlanPartResult& kept = take_planar ? planar.value() : first.value();
+  const PlanPartResult& other = take_planar ? first.value() : planar.value();
+  const std::string versus = fmt::format("{} mm2 unsupported, {} regions, {} reorientations against {}, {}, {} on {} layers",
+                                         area_text(kept.plan.unsupported_area_mm2), kept.plan.regions, kept.plan.reorientations,
+                                         area_text(other.plan.unsupported_area_mm2), other.plan.regions, other.plan.reorientations,
+                                         take_planar ? "tilted" : "planar");
+  kept.choice += fmt::format("; {} layers: {}", take_planar ? "planar" : "tilted", versus);
+  if (take_planar) {
+    for (PlanRegion& r : kept.plan.placed_regions) r.layers_rule = kLayersPlanar, r.layers_why = "the plan on planar layers is the better: " + versus;
+  }
+  return std::move(kept);
 }
 
 }  // namespace polyaxis::planner

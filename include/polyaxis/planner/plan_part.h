@@ -66,6 +66,11 @@ struct PlanPartResult {
 // With kAuto, a decomposition whose program cannot be written (a limit only the program shows,
 // such as C winding past its end stops), or, read back, starts a region in mid-air or still
 // collides, gives way to the single direction when that one reads back clean.
+// Layers (options.plan.layers, PlanOptions): with kAuto each region takes tilted layers where its
+// planar ones overhang and the tilted ones leave less (make_plan); a plan that took tilted layers
+// anywhere is then compared with the whole choice made on planar layers, and the one that reads
+// back clean, then by the order above, is kept (a tilted plan that cannot be written or reads back
+// colliding gives way to the planar one). choice and the regions' layers_why say which and why.
 // Errors: those of make_plan and write_gcode (kUsage naming options, kInfeasible, kMachineLimit
 // naming the region, direction and limit); a program breaking a machine limit is kMachineLimit; a
 // program with collisions is kInfeasible naming the first ones (unless allow_collisions).
