@@ -95,9 +95,10 @@ std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
     for (const auto& t : r.mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
     fmt::format_to(std::back_inserter(out),
                    "{}{{\"id\":{},\"parent\":{},\"build_direction\":{},\"base_point\":{},\"volume_mm3\":{:.6g},\"support_free\":{},"
-                   "\"positions\":\"{}\",\"indices\":\"{}\"}}",
+                   "\"layers\":{{\"strategy\":\"{}\",\"why\":{}}},\"positions\":\"{}\",\"indices\":\"{}\"}}",
                    i ? "," : "", r.id, r.parent ? fmt::to_string(*r.parent) : std::string("null"), vec(core::normalized(r.direction)),
-                   vec(r.base_point), mesh::signed_volume(r.mesh), r.support_free, base64(positions), base64(indices));
+                   vec(r.base_point), mesh::signed_volume(r.mesh), r.support_free, slicing::layer_strategy_name(r.layers),
+                   nlohmann::json(r.layers_why).dump(), base64(positions), base64(indices));
   }
   out += "],\"axis\":";
   if (!view.axis) {
@@ -135,10 +136,11 @@ std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
   for (std::size_t k = 0; k < view.layers.size(); ++k) {
     const ViewLayer& l = view.layers[k];
     fmt::format_to(std::back_inserter(out),
-                   "{}\n{{\"index\":{},\"region\":{},\"origin\":{},\"normal\":{},\"thickness_mm\":{:.6g},\"area_mm2\":{:.6g},"
-                   "\"unsupported_area_mm2\":{:.6g},\"max_tilt_deg\":{:.6g},\"tilt_deg\":[{:.6g},{:.6g}],\"c_deg\":[{:.6g},{:.6g}],{},{},"
+                   "{}\n{{\"index\":{},\"region\":{},\"origin\":{},\"normal\":{},\"thickness_mm\":{:.6g},\"thickness_range_mm\":[{:.6g},{:.6g}],"
+                   "\"area_mm2\":{:.6g},\"unsupported_area_mm2\":{:.6g},\"max_tilt_deg\":{:.6g},\"tilt_deg\":[{:.6g},{:.6g}],\"c_deg\":[{:.6g},{:.6g}],{},{},"
                    "\"path_first\":{},\"path_count\":{}}}",
-                   k ? "," : "", l.index, l.region, vec(l.origin), vec(l.normal), l.thickness_mm, l.area_mm2, l.unsupported_area_mm2,
+                   k ? "," : "", l.index, l.region, vec(l.origin), vec(l.normal), l.thickness_mm, l.thickness_range_mm[0], l.thickness_range_mm[1],
+                   l.area_mm2, l.unsupported_area_mm2,
                    l.max_tilt_deg, l.tilt_deg[0], l.tilt_deg[1], l.c_deg[0], l.c_deg[1], rings_fields(l.contours, "contours", "contour_starts"),
                    rings_fields(l.unsupported, "unsupported", "unsupported_starts"), first[k], count[k]);
   }

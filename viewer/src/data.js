@@ -87,6 +87,9 @@ function decodeRegion(r, k) {
     basePoint: vec3(r.base_point, `${what}.base_point`, [0, 0, 0]),
     volume: num(r.volume_mm3, NaN),
     supportFree: r.support_free,
+    // Its layer strategy and why (plans before tilted layers have none).
+    layers: r.layers && typeof r.layers.strategy === 'string' ? r.layers.strategy : null,
+    layersWhy: r.layers && typeof r.layers.why === 'string' ? r.layers.why : '',
     positions,
     indices,
   };

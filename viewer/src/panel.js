@@ -96,7 +96,7 @@ export function buildPanel(root, data, colorOf, extra) {
   if (regions.length) {
     left.append(el('h2', { text: 'Regions' }));
     const table = el('table', { class: 'px-legend' });
-    table.append(el('tr', {}, ...['', 'id', 'direction', 'volume', 'supp.-free'].map((h) => el('th', { text: h }))));
+    table.append(el('tr', {}, ...['', 'id', 'direction', 'volume', 'supp.-free', 'layers'].map((h) => el('th', { text: h }))));
     for (const r of regions) {
       const sf = r.supportFree === true ? 'yes' : r.supportFree === false ? 'no' : '–';
       table.append(el('tr', { title: r.parent !== null ? `parent region ${r.parent}` : 'root region' },
@@ -104,7 +104,8 @@ export function buildPanel(root, data, colorOf, extra) {
         el('td', { text: String(r.id) }),
         el('td', { text: fmtVec(r.buildDirection, 2) }),
         el('td', { text: Number.isNaN(r.volume) ? '–' : `${fmtNum(r.volume)} mm³` }),
-        el('td', { text: sf, class: r.supportFree === false ? 'px-bad' : '' })));
+        el('td', { text: sf, class: r.supportFree === false ? 'px-bad' : '' }),
+        el('td', { text: r.layers ?? '–', title: r.layersWhy })));
     }
     left.append(table);
   }
