@@ -371,6 +371,10 @@ core::Result<slicing::SliceResult> region_layers(PlanRegion& region, const mesh:
     return planar;
   }
   auto tilted = slicing::slice(region.mesh, tilted_options(region, machine, process, options), topology);
+  if (!tilted && tilted.error().code == core::ErrorCode::kInfeasible) {
+    region.layers_why = fmt::format("overhang {} mm2 on planar layers; tilted layers refused: {}", area_text(planar_mm2), tilted.error().message);
+    return planar;
+  }
   if (!tilted) return tilted;
   const double tilted_mm2 = slicing::overhang_estimate_mm2(tilted.value(), process.self_supporting_deg, step);
   const std::string figures = fmt::format("overhang {} mm2 on tilted layers, {} mm2 on planar", area_text(tilted_mm2), area_text(planar_mm2));

@@ -16,8 +16,11 @@
 //   - the overhang limit of adaptive.cpp: S_t within S_b (projected) grown by
 //     max(t_min·tan α, step).
 // Otherwise D ← (D + n)/2 (Ruan's steps 1–2) until D is within kEpsDeg of n, then Δ ← Δ − Δ/4
-// (step 3), from the nominal step down to ΔL_min. When no plane passes, the plane parallel to the
-// previous one at ΔL_min is taken and counted in limit_violations (as the adaptive slicer does).
+// (step 3), from the nominal step down to ΔL_min. When no plane passes, the one turned furthest
+// that keeps the thickness and the order of the planes is taken (VolDiff and the overhang given up
+// for it, so that the layers keep turning towards the axis: a tube leaning 70° is reached in a few
+// dozen layers), else the plane parallel to the previous one at ΔL_min; both are counted in
+// limit_violations (as the adaptive slicer counts its own).
 // The layers end where the section parallel to the previous plane at ΔL_min is empty.
 //
 // Every trial cuts the mesh along its own direction: O(V) for the heights plus the faces of the
@@ -32,6 +35,7 @@
 
 #include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
+#include "polyaxis/mesh/properties.h"
 #include "polyaxis/slicing/section.h"
 
 namespace polyaxis::slicing::detail {
@@ -46,6 +50,9 @@ constexpr double kShrink = 0.25;
 constexpr double kOverhangAreaMm2 = 1e-3;
 // Every corner of the previous section stays this share of ΔL_min under the next plane.
 constexpr double kUnderShare = 0.5;
+// The layers must cover at least this share of the part's volume (Σ area × thickness on the axis
+// comes within 0.5 % on parts the planes follow).
+constexpr double kCoveredShare = 0.97;
 // Rounding of the thickness test (mm): corners are rounded to the polygon grid.
 constexpr double kThicknessSlackMm = 1e-6;
 
@@ -101,7 +108,10 @@ class Cutter {
     }
   }
 
-  Cut cut(Vec3 n, double h) {
+  // The section by {p : p·n = h}. With NEAR (the section below), only its islands that come within
+  // REACH_MM of NEAR seen along n are kept: a plane turned with a curved branch passes through the
+  // far parts of the mesh too (the next turn of a helix), which later planes build.
+  Cut cut(Vec3 n, double h, const Cut* near = nullptr, double reach_mm = 0.0) {
     Cut c;
     c.frame = plane_frame(n, h);
     c.h = h;
@@ -116,6 +126,7 @@ class Cutter {
     }
     std::sort(faces_.begin(), faces_.end());  // face order: the same section whatever the clusters
     c.s = section(ctx, h, c.frame, faces_, scratch_);
+    if (near != nullptr && c.s.polygons.size() > 1) keep_near(c, *near, reach_mm);
     const geom2d::Centroid g = geom2d::centroid(c.s.polygons);
     c.centroid = c.frame.to_world(g.x, g.y);
     for (const geom2d::Ring& r : geom2d::rings_of(c.s.polygons)) {
@@ -125,6 +136,17 @@ class Cutter {
   }
 
  private:
+  static void keep_near(Cut& c, const Cut& near, double reach_mm) {
+    const auto zone = geom2d::rings_of(geom2d::offset(project(near.s.polygons, near.frame, c.frame), reach_mm));
+    std::vector<geom2d::Polygon> kept;
+    for (geom2d::Polygon& p : c.s.polygons) {
+      const double area = geom2d::area_mm2(p);
+      if (geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of({p}), zone)) < area) kept.push_back(std::move(p));
+    }
+    c.s.polygons = std::move(kept);
+    c.s.area_mm2 = geom2d::area_mm2(c.s.polygons);
+  }
+
   static constexpr std::size_t kClusterFaces = 32;
   struct Cluster {
     Vec3 centre;
@@ -141,6 +163,7 @@ class Cutter {
 
 struct Verdict {
   bool ok = false;
+  bool shaped = false;  // the thickness and the order of the planes hold (VolDiff or the overhang may not)
   double t_min = 0.0, t_max = 0.0;
 };
 
@@ -160,6 +183,7 @@ Verdict judge(const Cut& below, const Cut& upper, const SliceOptions& o) {
   for (const Vec3& q : below.corners) {
     if (core::dot(q, d) - upper.h > -kUnderShare * o.min_mm) return v;
   }
+  v.shaped = true;
   if (!o.limits.voldiff && !o.limits.overhang_deg) return v.ok = true, v;
   const std::vector<geom2d::Polygon> under = project(below.s.polygons, below.frame, upper.frame);
   if (o.limits.voldiff) {
@@ -189,10 +213,14 @@ Layer layer_of(Cut&& c, double on_axis_mm, double t_min, double t_max, bool tilt
   return l;
 }
 
+// How far from the section below an island of the next one may lie and still grow from it: a
+// layer's own thickness twice over plus the step a tilted torch may take.
+double near_reach_mm(const SliceOptions& o) { return 2.0 * (o.max_mm + o.limits.overhang_step_mm.value_or(0.0)); }
+
 // The plane at turn S ∈ [0, 1] from N towards the link L, through the axis point Δ on.
-Cut turned(Cutter& cutter, const Cut& below, Vec3 n, Vec3 link, double s, double step) {
+Cut turned(Cutter& cutter, const Cut& below, Vec3 n, Vec3 link, double s, double step, double reach_mm) {
   const Vec3 d = core::normalized(n + (link - n) * s);
-  return cutter.cut(d, core::dot(below.centroid + d * step, d));
+  return cutter.cut(d, core::dot(below.centroid + d * step, d), &below, reach_mm);
 }
 
 struct Candidate {
@@ -209,9 +237,12 @@ struct Candidate {
 std::optional<Candidate> next_plane(Cutter& cutter, const Cut& below, const SliceOptions& o, std::uint32_t& violations) {
   constexpr int kRefine = 4;
   const Vec3 n = below.frame.d;
-  std::optional<Candidate> best;
+  std::optional<Candidate> best, shaped;  // shaped: the furthest turn keeping only the thickness and the order
+  auto keep_shaped = [&](const Cut& trial, const Verdict& v, double s) {
+    if (v.shaped && (!shaped || s > shaped->turn)) shaped = Candidate{trial, v, s};
+  };
   for (double step = std::clamp(o.layer_mm, o.min_mm, o.max_mm); step >= o.min_mm - kThicknessSlackMm; step -= kShrink * step) {
-    const Cut probe = cutter.cut(n, below.h + step);
+    const Cut probe = cutter.cut(n, below.h + step, &below, near_reach_mm(o));
     if (probe.empty()) continue;
     const Vec3 to_probe = probe.centroid - below.centroid;
     const Vec3 link = core::dot(to_probe, n) > 0.0 ? core::normalized(to_probe) : n;
@@ -225,31 +256,40 @@ std::optional<Candidate> next_plane(Cutter& cutter, const Cut& below, const Slic
     const double start = spread * 1.0 > slack && spread > 0.0 ? std::max(slack, 0.0) / spread : 1.0;
     double fail = start < 1.0 ? std::min(1.0, 2.0 * start) : 0.0;  // a turn above the passing one to bisect towards
     for (double s = start;; s *= 0.5) {
-      Cut trial = turned(cutter, below, n, link, s, step);
+      Cut trial = turned(cutter, below, n, link, s, step, near_reach_mm(o));
       const Verdict v = judge(below, trial, o);
       if (v.ok) {
         here = Candidate{std::move(trial), v, s};
         break;
       }
+      keep_shaped(trial, v, s);
       fail = s;
       if (angle_deg(core::normalized(n + (link - n) * s), n) < kEpsDeg) break;
     }
     if (!here) continue;
     for (int i = 0; i < kRefine && fail > 0.0; ++i) {
       const double mid = 0.5 * (here->turn + fail);
-      Cut trial = turned(cutter, below, n, link, mid, step);
+      Cut trial = turned(cutter, below, n, link, mid, step, near_reach_mm(o));
       const Verdict v = judge(below, trial, o);
       if (v.ok) here = Candidate{std::move(trial), v, mid};
-      else fail = mid;
+      else keep_shaped(trial, v, mid), fail = mid;
     }
     if (!best || here->turn > best->turn) best = std::move(here);
     if (best->turn == 1.0) break;
   }
   if (best) return best;
-  Cut flat = cutter.cut(n, below.h + o.min_mm);
+  // No plane meets every limit: the one turned furthest towards the axis with its thickness in
+  // range (VolDiff and the overhang are given up for this layer, and the next ones can turn
+  // further), else the plane parallel to the previous one at ΔL_min.
+  if (shaped && shaped->turn > 0.0) {
+    ++violations;
+    shaped->verdict.ok = true;
+    return shaped;
+  }
+  Cut flat = cutter.cut(n, below.h + o.min_mm, &below, near_reach_mm(o));
   if (flat.empty()) return std::nullopt;
   ++violations;
-  return Candidate{std::move(flat), Verdict{true, o.min_mm, o.min_mm}, 0.0};
+  return Candidate{std::move(flat), Verdict{true, true, o.min_mm, o.min_mm}, 0.0};
 }
 
 }  // namespace
@@ -302,6 +342,16 @@ core::Result<SliceResult> slice_tilted(const mesh::Mesh& mesh, const SliceOption
     l.index = static_cast<std::uint32_t>(k);
     result.total_area_mm2 += l.area_mm2;
     result.volume_estimate_mm3 += l.area_mm2 * l.thickness_mm();
+  }
+  // Planes that cannot turn as fast as the part (a thin tube leaning far from the first layer)
+  // wander off it and leave it partly unbuilt: refused rather than returned.
+  const double volume = std::fabs(mesh::signed_volume(mesh));
+  if (result.volume_estimate_mm3 < kCoveredShare * volume) {
+    return core::make_error(core::ErrorCode::kInfeasible,
+                            fmt::format("tilted layers cover {:.0f} % of the part's volume ({:.1f} of {:.1f} mm3; {} of {} layers gave up a "
+                                        "limit): the planes cannot turn with it within the thickness range",
+                                        100.0 * result.volume_estimate_mm3 / volume, result.volume_estimate_mm3, volume,
+                                        result.limit_violations, result.layers.size()));
   }
   return result;
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "polyaxis/geom2d/clip.h"
+#include "polyaxis/io/read_part.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/slicing/slice.h"
@@ -150,6 +151,19 @@ TEST(Tilted, FollowsTheBarInAnyFrame) {
   EXPECT_LT(f.overhang_mm2, 0.01);
   // The far end leans 90° from +Z towards the turned +X.
   EXPECT_NEAR(angle_deg(r.value().layers.back().frame.d, {c, s, 0}), 0.0, 10.0);
+}
+
+// The spiral (a thin square tube on a helix, leaning 70° from its horizontal base): planes turning at
+// most as fast as the thickness range allows fall behind the helix and wander off it. The slicing
+// is refused, naming how much of the part the layers would cover, rather than returned short.
+TEST(Tilted, PlanesThatCannotTurnWithThePartAreRefused) {
+  auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/spiral.stl");
+  ASSERT_TRUE(read.ok());
+  const mesh::Mesh spiral = repaired(std::move(read.value().mesh));
+  auto r = slice(spiral, tilted_options());
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code, core::ErrorCode::kInfeasible);
+  EXPECT_NE(r.error().message.find("% of the part's volume"), std::string::npos) << r.error().message;
 }
 
 INSTANTIATE_TEST_SUITE_P(Bends, TiltedOnBentBars,
