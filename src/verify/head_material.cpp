@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace polyaxis::verify::detail {
 namespace {
@@ -165,6 +166,62 @@ std::optional<MaterialHit> MaterialIndex::deepest(const HeadProfile& head, Vec3 
     }
   }
   return best;
+}
+
+BelowTheTip::BelowTheTip(std::vector<std::array<float, 3>> axes, const std::vector<MaterialSample>& material, const machine::BuildModel& model,
+                         double radius, double ignore)
+    : radius_(radius), ignore_(ignore) {
+  const machine::NozzleModel& n = model.nozzle;
+  cone_rad_ = n.tip_half_angle_deg * kDegToRad;
+  above_cone_mm_ = n.cone_height_mm;  // where the cylinder starts
+  for (const machine::HeadBox& b : model.head_boxes) {
+    if (b.min_mm[2] < 0.0) return;  // a box below the tip: no shortcut
+    above_cone_mm_ = std::min(above_cone_mm_, b.min_mm[2]);
+  }
+  // Every head point is within this of the tip.
+  extent_ = n.cone_height_mm + n.cylinder_height_mm + std::max(n.cylinder_radius_mm, n.cone_height_mm * std::tan(cone_rad_));
+  for (const machine::HeadBox& b : model.head_boxes) {
+    for (const double x : {b.min_mm[0], b.max_mm[0]}) {
+      for (const double y : {b.min_mm[1], b.max_mm[1]}) {
+        for (const double z : {b.min_mm[2], b.max_mm[2]}) extent_ = std::max(extent_, std::sqrt(x * x + y * y + z * z));
+      }
+    }
+  }
+  for (const auto& axis : axes) {
+    Track t;
+    t.axis = axis;
+    t.highest.resize(material.size() + 1);
+    t.highest[0] = -INFINITY;
+    const Vec3 a{axis[0], axis[1], axis[2]};
+    for (std::size_t i = 0; i < material.size(); ++i) {
+      const Vec3 p{material[i].position[0], material[i].position[1], material[i].position[2]};
+      t.highest[i + 1] = std::max(t.highest[i], core::dot(p, a));
+    }
+    tracks_.push_back(std::move(t));
+  }
+}
+
+bool BelowTheTip::clear(const std::array<float, 3>& tip, const std::array<float, 3>& axis, std::uint32_t before, double margin_mm,
+                        double turn_rad) const {
+  for (const Track& t : tracks_) {
+    if (t.axis != axis || before >= t.highest.size()) continue;
+    const Vec3 a{axis[0], axis[1], axis[2]}, p{tip[0], tip[1], tip[2]};
+    const double h = t.highest[before] - core::dot(p, a);
+    if (h >= ignore_) return false;
+    // Above the cone: the cylinder and the boxes start above_cone_mm_ up the axis. A ball that can
+    // come within its reach of the head is at most R from the tip, R = extent + radius + margin +
+    // turn·R: the turn's reach is taken there.
+    if (turn_rad >= 1.0) return false;
+    const double far = (extent_ + radius_ + margin_mm) / (1.0 - turn_rad);
+    if (above_cone_mm_ - h <= radius_ + margin_mm + turn_rad * far) return false;
+    // The cone's side: a point R ≥ ignore from the tip at elevation φ from the plane is R·cos(φ + θ)
+    // from the cone's side (R from its apex once φ < −θ); at most h up, φ ≤ φ_h with sin φ_h =
+    // max(h, 0) / ignore. Its reach grows by the turn times R, slower than that distance.
+    const double phi = std::asin(std::max(h, 0.0) / ignore_);
+    const double c = std::cos(phi + cone_rad_);
+    return phi + cone_rad_ < 0.5 * std::numbers::pi && c > turn_rad && ignore_ * (c - turn_rad) > radius_ + margin_mm;
+  }
+  return false;
 }
 
 }  // namespace polyaxis::verify::detail

@@ -83,4 +83,30 @@ class MaterialIndex {
   std::vector<Node> nodes_;
 };
 
+// A shortcut for the commonest check, exact under the margins of MaterialIndex::deepest: the head
+// lies on its tip's side of the plane through the tip square to its axis a (the cone and the
+// cylinder grow along a from the tip; a head box reaching below the tip turns the shortcut off).
+// When every ball laid before a check has its centre at most h above that plane, and h is small
+// enough that no point at most h above it and farther than the ignored distance from the tip comes
+// within the check's reach of the head, the check is clear without a search. The greatest height of
+// the deposit laid so far is kept per stamp along each of AXES (a planar region's layers share
+// one; checks along other axes are not shortened). Memory: one double per sample and axis.
+class BelowTheTip {
+ public:
+  // MATERIAL in stamp order (material[i].stamp == i); RADIUS and IGNORE as given to deepest.
+  BelowTheTip(std::vector<std::array<float, 3>> axes, const std::vector<MaterialSample>& material, const machine::BuildModel& model,
+              double radius, double ignore);
+  // True when nothing laid before BEFORE can come within RADIUS + MARGIN_MM + TURN_RAD · (its
+  // distance) of the head at (TIP, AXIS) farther than IGNORE from the tip: deepest would find none.
+  bool clear(const std::array<float, 3>& tip, const std::array<float, 3>& axis, std::uint32_t before, double margin_mm, double turn_rad) const;
+
+ private:
+  struct Track {
+    std::array<float, 3> axis;
+    std::vector<double> highest;  // by stamp: the greatest height along the axis of the deposit laid before
+  };
+  double radius_, ignore_, cone_rad_ = 0.0, above_cone_mm_ = 0.0, extent_ = 0.0;
+  std::vector<Track> tracks_;
+};
+
 }  // namespace polyaxis::verify::detail

@@ -8,6 +8,8 @@
 #include <array>
 #include <optional>
 #include <unordered_map>
+#include <map>
+#include <functional>
 
 #include <tbb/parallel_for.h>
 
@@ -197,6 +199,25 @@ std::optional<detail::MaterialHit> refine(const std::vector<HeadQuery>& samples,
   return best;
 }
 
+// The axes of at least kCommonAxisShare of the coarse checks, at most kCommonAxes of them, most
+// shared first: those the shortcut of detail::BelowTheTip keeps heights for.
+constexpr double kCommonAxisShare = 0.02;
+constexpr std::size_t kCommonAxes = 8;
+
+std::vector<std::array<float, 3>> common_axes(const std::vector<HeadQuery>& samples, const std::vector<std::uint32_t>& coarse) {
+  std::map<std::array<float, 3>, std::size_t> count;
+  for (const std::uint32_t i : coarse) ++count[samples[i].axis];
+  std::vector<std::pair<std::size_t, std::array<float, 3>>> common;
+  for (const auto& [axis, c] : count) {
+    if (static_cast<double>(c) >= kCommonAxisShare * static_cast<double>(coarse.size())) common.push_back({c, axis});
+  }
+  std::sort(common.begin(), common.end(), std::greater<>());
+  if (common.size() > kCommonAxes) common.resize(kCommonAxes);
+  std::vector<std::array<float, 3>> out;
+  for (const auto& [c, axis] : common) out.push_back(axis);
+  return out;
+}
+
 // Checks the samples against the material (in parallel) in two passes: every COARSE sample (at
 // most kQueryBeads / kQueryDeg apart) with the margin of the gaps to its coarse neighbours, then,
 // around those that come within it, every sample with the margin of its own gaps. Adds the
@@ -204,9 +225,10 @@ std::optional<detail::MaterialHit> refine(const std::vector<HeadQuery>& samples,
 void check_material(const std::vector<HeadQuery>& samples, const std::vector<std::uint32_t>& coarse,
                     std::vector<detail::MaterialSample> material, const machine::BuildModel& model, double bead_mm, BuildCheck& out) {
   const detail::HeadProfile head(model);
-  const detail::MaterialIndex index(std::move(material));
   // A bead is covered by balls at most kMaterialBeads apart of radius √((bead/2)² + (gap/2)²).
   const double radius = std::hypot(0.5 * bead_mm, 0.5 * kMaterialBeads * bead_mm), ignore = kIgnoreBeads * bead_mm;
+  const detail::BelowTheTip below(common_axes(samples, coarse), material, model, radius, ignore);
+  const detail::MaterialIndex index(std::move(material));
   // The travel and turn from sample A to sample B (A < B), summed over the samples between.
   std::vector<double> run_mm(samples.size() + 1, 0.0), run_rad(samples.size() + 1, 0.0);
   for (std::size_t i = 0; i < samples.size(); ++i) run_mm[i + 1] = run_mm[i] + samples[i].gap_mm, run_rad[i + 1] = run_rad[i] + samples[i].gap_rad;
@@ -215,6 +237,7 @@ void check_material(const std::vector<HeadQuery>& samples, const std::vector<std
     const double gap = std::max(run_mm[i + 1] - run_mm[prev + 1], run_mm[next + 1] - run_mm[i + 1]);
     const double turn = std::max(run_rad[i + 1] - run_rad[prev + 1], run_rad[next + 1] - run_rad[i + 1]);
     const HeadQuery& q = samples[i];
+    if (below.clear(q.tip, q.axis, q.before, 0.5 * gap, 0.5 * turn)) return std::optional<detail::MaterialHit>{};
     return index.deepest(head, vec(q.tip), vec(q.axis), q.before, radius, ignore, 0.5 * gap, 0.5 * turn);
   };
   std::vector<char> near(coarse.size(), 0);

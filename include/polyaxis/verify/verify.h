@@ -27,7 +27,8 @@
 //   that finds something, every sample around is checked with its own (smaller) gaps. So the
 //   check is conservative by those margins. The nozzle is exact, head boxes are swept about the
 //   axis (conservative). A BVH over the deposit samples, each stamped with its place in the
-//   deposit order, answers every check.
+//   deposit order, answers every check that the exact shortcut of detail::BelowTheTip (all the
+//   deposit so far low enough under the tip's plane) does not clear.
 // - A region starts in mid-air when the first deposit sample of its program is not grounded.
 // - Stall: process-on feed time during which the tip moves slower than kStallShare of the
 //   process's deposit feed. Dwells after switching on (the process file's dwell_on_s) are counted
