@@ -3,12 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include <tbb/parallel_invoke.h>
 #include <numbers>
 
 namespace polyaxis::verify::detail {
 namespace {
 
 constexpr std::uint32_t kLeafSize = 8;
+// The index is built in parallel down to this depth, for subtrees of more samples than this.
+constexpr int kParallelDepth = 6;
+constexpr std::uint32_t kParallelCount = 50000;
 constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 std::vector<std::array<double, 2>> rect(double h0, double r0, double h1, double r1) { return {{h0, r0}, {h1, r0}, {h1, r1}, {h0, r1}}; }
@@ -97,13 +102,22 @@ double HeadProfile::distance(Vec3 d, Vec3 axis) const {
 
 MaterialIndex::MaterialIndex(std::vector<MaterialSample> samples) : samples_(std::move(samples)) {
   if (samples_.empty()) return;
-  nodes_.reserve(2 * samples_.size() / kLeafSize + 2);
-  build(0, static_cast<std::uint32_t>(samples_.size()));
+  const auto n = static_cast<std::uint32_t>(samples_.size());
+  nodes_.resize(subtree_nodes(n));
+  build(0, 0, n, 0);
 }
 
-std::uint32_t MaterialIndex::build(std::uint32_t first, std::uint32_t count) {
-  const auto id = static_cast<std::uint32_t>(nodes_.size());
-  nodes_.emplace_back();
+std::uint32_t MaterialIndex::subtree_nodes(std::uint32_t count) {
+  // Filled before the build (read only while it runs in parallel): counts at one depth differ by
+  // at most one, so there are two a level.
+  if (const auto it = subtree_sizes_.find(count); it != subtree_sizes_.end()) return it->second;
+  const std::uint32_t half = count / 2;
+  const std::uint32_t size = count <= kLeafSize ? 1 : 1 + subtree_nodes(half) + subtree_nodes(count - half);
+  subtree_sizes_.emplace(count, size);
+  return size;
+}
+
+void MaterialIndex::build(std::uint32_t id, std::uint32_t first, std::uint32_t count, int depth) {
   Node node;
   node.lo = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
   node.hi = {-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
@@ -115,7 +129,7 @@ std::uint32_t MaterialIndex::build(std::uint32_t first, std::uint32_t count) {
   if (count <= kLeafSize) {
     node.first = first, node.count = count;
     nodes_[id] = node;
-    return id;
+    return;
   }
   int axis = 0;
   for (int k = 1; k < 3; ++k) {
@@ -124,10 +138,18 @@ std::uint32_t MaterialIndex::build(std::uint32_t first, std::uint32_t count) {
   const std::uint32_t half = count / 2;
   std::nth_element(samples_.begin() + first, samples_.begin() + first + half, samples_.begin() + first + count,
                    [axis](const MaterialSample& a, const MaterialSample& b) { return a.position[axis] < b.position[axis]; });
-  node.left = build(first, half);
-  node.right = build(first + half, count - half);
+  // Preorder layout: the left subtree follows its parent, the right one follows the left.
+  node.left = id + 1;
+  node.right = id + 1 + subtree_nodes(half);
   nodes_[id] = node;
-  return id;
+  auto left = [&] { build(node.left, first, half, depth + 1); };
+  auto right = [&] { build(node.right, first + half, count - half, depth + 1); };
+  // The subtrees own disjoint samples and nodes: the top levels are built side by side.
+  if (depth < kParallelDepth && count > kParallelCount) {
+    tbb::parallel_invoke(left, right);
+  } else {
+    left(), right();
+  }
 }
 
 std::optional<MaterialHit> MaterialIndex::deepest(const HeadProfile& head, Vec3 tip, Vec3 axis, std::uint32_t before, double radius_mm,

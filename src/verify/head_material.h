@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -57,7 +58,8 @@ struct MaterialHit {
 
 // A static bounding-volume hierarchy over deposit samples (median splits, leaves of a few
 // samples), each node holding the smallest stamp below it, so that material laid later is pruned
-// whole. Building is O(n log n); a query visits the nodes within reach of the head.
+// whole. Building is O(n log n), its top levels in parallel, in a preorder layout that does not
+// depend on the thread count; a query visits the nodes within reach of the head.
 class MaterialIndex {
  public:
   explicit MaterialIndex(std::vector<MaterialSample> samples);
@@ -77,10 +79,12 @@ class MaterialIndex {
     std::uint32_t first = 0, count = 0;  // samples [first, first + count) of a leaf
     std::uint32_t left = 0, right = 0;   // children of an inner node (count == 0)
   };
-  std::uint32_t build(std::uint32_t first, std::uint32_t count);
+  std::uint32_t subtree_nodes(std::uint32_t count);
+  void build(std::uint32_t id, std::uint32_t first, std::uint32_t count, int depth);
 
   std::vector<MaterialSample> samples_;
   std::vector<Node> nodes_;
+  std::map<std::uint32_t, std::uint32_t> subtree_sizes_;  // nodes of a subtree of so many samples
 };
 
 // A shortcut for the commonest check, exact under the margins of MaterialIndex::deepest: the head
