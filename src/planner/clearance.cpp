@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "reach.h"
 
 namespace polyaxis::planner::detail {
@@ -122,11 +124,21 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
   const std::uint32_t root = plan.placed_regions.empty() ? 0 : plan.placed_regions.front().id;
   const machine::NozzleModel& nozzle = plan.build_model.nozzle;
   const double head_reach = std::max(nozzle.cylinder_radius_mm, nozzle.cone_height_mm * std::tan(nozzle.tip_half_angle_deg * kPi / 180.0));
-  std::size_t flat = 0;
+  // The deposit a point is checked against is the tips laid before it, which no easing moves, and
+  // a move into a point depends on its layer's point before only: the layers are eased side by
+  // side. FIRST: each layer's first point in the flat order.
+  std::vector<std::size_t> first(plan.toolpaths.size() + 1, 0);
+  std::uint64_t eased_before = 0;
+  for (const toolpath::LayerToolpaths& lt : plan.toolpaths) eased_before += lt.axes_eased;
   for (std::size_t k = 0; k < plan.toolpaths.size(); ++k) {
+    first[k + 1] = first[k];
+    for (const toolpath::Path& path : plan.toolpaths[k].paths) first[k + 1] += path.points.size();
+  }
+  tbb::parallel_for(std::size_t{0}, plan.toolpaths.size(), [&](std::size_t k) {
     const Vec3 n = plan.layers.layers[k].frame.d;
     const toolpath::PathPoint* previous = nullptr;  // the layer's point before, across its paths
     const bool exposed = plan.region_of_layer[k] != root && others_above(plan, k, head_reach);
+    std::size_t flat = first[k];
     for (toolpath::Path& path : plan.toolpaths[k].paths) {
       for (toolpath::PathPoint& p : path.points) {
         const std::size_t i = flat++;
@@ -167,12 +179,15 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
           if (!guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, n, axis)) continue;
           if (strikes(axis)) continue;
           p.tool_axis = axis;
-          ++plan.tilts_eased, ++plan.toolpaths[k].axes_eased;
+          ++plan.toolpaths[k].axes_eased;
           break;
         }
       }
     }
-  }
+  });
+  std::uint64_t eased = 0;
+  for (const toolpath::LayerToolpaths& lt : plan.toolpaths) eased += lt.axes_eased;
+  plan.tilts_eased += eased - eased_before;
 }
 
 std::vector<TransitPoint> clear_travel(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before,
