@@ -276,6 +276,53 @@ void check_material(const std::vector<HeadQuery>& samples, const std::vector<std
   }
 }
 
+// Moves read at a time before they are sampled in parallel.
+constexpr std::size_t kBlockMoves = 8192;
+
+struct Sample {
+  machine::MachineToolPose pose;
+  double clearance_mm = 0.0;  // of the head to the plate and the table (machine/build_model.h)
+};
+
+// The samples of every move of BLOCK, SPACING apart along the tip and kSampleDeg of rotary motion
+// apart: move I's are OUT[FIRST[I]] … OUT[FIRST[I + 1] − 1], its start first (the end of the move
+// before) for a known start, its end alone for the first move. In parallel; the same at any thread count.
+void sample_moves(const machine::MachineConfig& m, const machine::BuildModel& model, const std::vector<detail::WalkMove>& block, double spacing,
+                  std::vector<std::size_t>& first, std::vector<Sample>& out) {
+  std::vector<int> pieces(block.size(), 0);
+  tbb::parallel_for(std::size_t{0}, block.size(), [&](std::size_t i) {
+    const detail::WalkMove& mv = block[i];
+    if (!mv.from_known) return;
+    const Vec3 a = machine::forward(m, mv.from).tip_part_mm, b = machine::forward(m, mv.to).tip_part_mm;
+    const double rot = std::max(mv.d_tilt_deg, mv.d_c_deg);
+    pieces[i] = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(b - a) / spacing, rot / kSampleDeg))));
+  });
+  first.assign(block.size() + 1, 0);
+  for (std::size_t i = 0; i < block.size(); ++i) first[i + 1] = first[i] + static_cast<std::size_t>(pieces[i]) + 1;
+  out.resize(first.back());
+  tbb::parallel_for(std::size_t{0}, block.size(), [&](std::size_t i) {
+    const detail::WalkMove& mv = block[i];
+    auto put = [&](std::size_t k, machine::MachineToolPose tp) {
+      out[k] = {tp, std::min(machine::head_clearance_mm(model, tp.tip_part_mm, tp.tool_axis_part), machine::tip_clearance_mm(model, tp.tip_part_mm))};
+    };
+    if (!mv.from_known) {
+      put(first[i], machine::forward(m, mv.to));
+      return;
+    }
+    // With the rotary axes still, forward kinematics is affine in the linear axes: the tip moves
+    // straight from A to B with one tool axis.
+    const bool still = mv.d_tilt_deg == 0.0 && mv.d_c_deg == 0.0;
+    const machine::MachineToolPose end = machine::forward(m, mv.to);
+    const Vec3 a = machine::forward(m, mv.from).tip_part_mm, b = end.tip_part_mm;
+    out[first[i]].pose = {a, end.tool_axis_part};  // the start: only its tip is read (the move's length)
+    const int n = pieces[i];
+    for (int k = 1; k <= n; ++k) {
+      const double u = static_cast<double>(k) / n;
+      put(first[i] + static_cast<std::size_t>(k), still ? machine::MachineToolPose{a + (b - a) * u, end.tool_axis_part} : machine::forward(m, lerp(mv.from, mv.to, u)));
+    }
+  });
+}
+
 }  // namespace
 
 core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const process::ProcessConfig& process,
@@ -338,10 +385,9 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
   double since_coarse_mm = 0.0, since_coarse_rad = 0.0, since_material_mm = 0.0;
   std::uint64_t last_material_line = 0;
   std::vector<Collision> fixture_collisions;  // the plate or the table
-  auto check_sample = [&](const detail::WalkMove& mv, const machine::MachineToolPose& tp, bool last_of_move) {
+  // C: the head's clearance to the plate and the table there (sample_moves).
+  auto check_sample = [&](const detail::WalkMove& mv, const machine::MachineToolPose& tp, double c, bool last_of_move) {
     ++out.samples;
-    const double c = std::min(machine::head_clearance_mm(model, tp.tip_part_mm, tp.tool_axis_part),
-                              machine::tip_clearance_mm(model, tp.tip_part_mm));
     if (c < -kClearanceSlackMm) {
       ++out.head_collisions;
       if (mv.process_on) ++out.head_collisions_depositing;
@@ -389,26 +435,24 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
   cb.dwell = [&](std::uint64_t, double seconds, bool on) {
     if (on) out.process_on_dwell_s += seconds;
   };
-  cb.move = [&](const detail::WalkMove& mv) {
-    if (mv.layer != current_layer) end_layer(), current_layer = mv.layer;
-    if (!mv.from_known) return check_sample(mv, machine::forward(m, mv.to), true);
-    const Vec3 a = machine::forward(m, mv.from).tip_part_mm, b = machine::forward(m, mv.to).tip_part_mm;
-    const double rot = std::max(mv.d_tilt_deg, mv.d_c_deg);
-    const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(b - a) / spacing, rot / kSampleDeg))));
-    double length = 0.0;
-    Vec3 last = a;
-    // With the rotary axes still, forward kinematics is affine in the linear axes: the tip moves
-    // straight from A to B with one tool axis.
-    const bool still = mv.d_tilt_deg == 0.0 && mv.d_c_deg == 0.0;
-    const Vec3 fixed_axis = still ? machine::forward(m, mv.to).tool_axis_part : Vec3{};
-    for (int k = 1; k <= pieces; ++k) {
-      const double u = static_cast<double>(k) / pieces;
-      const machine::MachineToolPose tp = still ? machine::MachineToolPose{a + (b - a) * u, fixed_axis} : machine::forward(m, lerp(mv.from, mv.to, u));
-      length += core::norm(tp.tip_part_mm - last);
-      last = tp.tip_part_mm;
-      check_sample(mv, tp, k == pieces);
-    }
-    if (mv.process_on && !mv.rapid && mv.time_min > 0.0) {
+  // Moves are sampled (forward kinematics and the head's clearance, the bulk of the work) a block
+  // at a time in parallel, then taken in program order.
+  std::vector<detail::WalkMove> block;
+  std::vector<Sample> sampled;
+  std::vector<std::size_t> first;
+  auto take = [&] {
+    sample_moves(m, model, block, spacing, first, sampled);
+    for (std::size_t i = 0; i < block.size(); ++i) {
+      const detail::WalkMove& mv = block[i];
+      if (mv.layer != current_layer) end_layer(), current_layer = mv.layer;
+      double length = 0.0;
+      for (std::size_t k = first[i]; k < first[i + 1]; ++k) {
+        if (k > first[i]) length += core::norm(sampled[k].pose.tip_part_mm - sampled[k - 1].pose.tip_part_mm);
+        // The move's start (sample first[i] of a known move) is the previous move's end: not checked again.
+        if (mv.from_known && k == first[i]) continue;
+        check_sample(mv, sampled[k].pose, sampled[k].clearance_mm, k + 1 == first[i + 1]);
+      }
+      if (!mv.from_known || !mv.process_on || mv.rapid || mv.time_min <= 0.0) continue;
       const double seconds = mv.time_min * 60.0;
       out.process_on_s += seconds;
       if (length / seconds < kStallShare * process.deposit_feed_mm_s) {
@@ -416,9 +460,15 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
         out.stalled_s += seconds;
       }
     }
+    block.clear();
+  };
+  cb.move = [&](const detail::WalkMove& mv) {
+    block.push_back(mv);
+    if (block.size() == kBlockMoves) take();
   };
   bool end = false;
   if (auto st = detail::walk_gcode(m, gcode, &process, cb, &end); !st) return st.error();
+  take();
   end_layer();
   if (!head_samples.empty() && coarse.back() + 1 != head_samples.size()) coarse.push_back(static_cast<std::uint32_t>(head_samples.size() - 1));
   check_material(head_samples, coarse, std::move(material), model, process.bead_width_mm, out);
