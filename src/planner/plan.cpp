@@ -370,7 +370,9 @@ core::Result<slicing::SliceResult> region_layers(PlanRegion& region, const mesh:
                                                            : "planar layers: the torch stays along the build direction (--no-tilt)";
     return planar;
   }
-  auto tilted = slicing::slice(region.mesh, tilted_options(region, machine, process, options), topology);
+  slicing::SliceOptions tilted_slice = tilted_options(region, machine, process, options);
+  tilted_slice.give_up_overhang_mm2 = kTiltedGainShare * planar_mm2;  // beyond it the tilted layers cannot be kept
+  auto tilted = slicing::slice(region.mesh, tilted_slice, topology);
   if (!tilted && tilted.error().code == core::ErrorCode::kInfeasible) {
     region.layers_why = fmt::format("overhang {} mm2 on planar layers; tilted layers refused: {}", area_text(planar_mm2), tilted.error().message);
     return planar;

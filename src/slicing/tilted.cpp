@@ -320,9 +320,21 @@ core::Result<SliceResult> slice_tilted(const mesh::Mesh& mesh, const SliceOption
   }
   if (!below) return result;
   result.layers.push_back(layer_of(Cut(*below), t0, t0, t0, false));
+  double given_up_mm2 = 0.0;  // overhang of the layers that gave up a limit (give_up_overhang_mm2)
   while (result.layers.size() < max_layers) {
+    const std::uint32_t violations = result.limit_violations;
     auto next = next_plane(cutter, *below, o, result.limit_violations);
     if (!next) break;
+    if (o.give_up_overhang_mm2 && o.limits.overhang_deg && result.limit_violations > violations) {
+      const double grow = std::max(next->verdict.t_min * std::tan(*o.limits.overhang_deg * kPi / 180.0), o.limits.overhang_step_mm.value_or(0.0));
+      const auto under = geom2d::offset(project(below->s.polygons, below->frame, next->cut.frame), grow);
+      given_up_mm2 += geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of(next->cut.s.polygons), geom2d::rings_of(under)));
+      if (given_up_mm2 > *o.give_up_overhang_mm2) {
+        return core::make_error(core::ErrorCode::kInfeasible,
+                                fmt::format("tilted layers leave more than {:.1f} mm2 of overhang by layer {}", *o.give_up_overhang_mm2,
+                                            result.layers.size()));
+      }
+    }
     const Vec3 axis_point = below->centroid;
     Cut& c = next->cut;
     // The thickness on the axis: from the previous centroid along the new normal to the plane.

@@ -42,6 +42,10 @@ struct SliceOptions {
   // [min_mm, max_mm] at every corner of its section, under limits.voldiff and limits.overhang_deg
   // (the other limits, snap_mm and the stock are for parallel layers and are not used).
   bool tilted = false;
+  // Tilted layers: refuse (kInfeasible) as soon as the layers that give up a limit leave more than
+  // this overhang (mm², as overhang_estimate_mm2 counts it): a caller comparing with planar layers
+  // stops once tilted ones can no longer win.
+  std::optional<double> give_up_overhang_mm2;
 };
 
 struct SliceResult {

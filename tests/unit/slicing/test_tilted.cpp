@@ -166,6 +166,23 @@ TEST(Tilted, PlanesThatCannotTurnWithThePartAreRefused) {
   EXPECT_NE(r.error().message.find("% of the part's volume"), std::string::npos) << r.error().message;
 }
 
+// A flared cup overhangs all round: no plane turned one way helps. With a budget of overhang the
+// slicing stops as soon as the layers that give up the overhang limit exceed it.
+TEST(Tilted, GivesUpOnceTheOverhangBudgetIsSpent) {
+  const mesh::Mesh cup = repaired(test::frustum(5, 30, 20, 64));  // its side leans 51° out
+  SliceOptions o = tilted_options();
+  auto all = slice(cup, o);
+  ASSERT_TRUE(all.ok()) << all.error().message;
+  EXPECT_GT(all.value().limit_violations, 10u);
+  o.give_up_overhang_mm2 = 5.0;
+  auto stopped = slice(cup, o);
+  ASSERT_FALSE(stopped.ok());
+  EXPECT_EQ(stopped.error().code, core::ErrorCode::kInfeasible);
+  EXPECT_NE(stopped.error().message.find("more than 5.0 mm2 of overhang"), std::string::npos) << stopped.error().message;
+  o.give_up_overhang_mm2 = 1e9;
+  EXPECT_TRUE(slice(cup, o).ok());
+}
+
 INSTANTIATE_TEST_SUITE_P(Bends, TiltedOnBentBars,
                          ::testing::Values(Bend{40, 8, 110, 48, 16}, Bend{60, 6, 60, 30, 24}, Bend{30, 5, 90, 64, 12},
                                            Bend{50, 10, 135, 40, 32}));
