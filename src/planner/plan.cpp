@@ -34,8 +34,6 @@ constexpr double kBelowPlateLayerShare = 0.5;
 constexpr int kMaxGuardDepth = 8;
 // A layer whose bottom is within this of the plate's top is laid on the plate.
 constexpr double kOnPlateMm = 1e-6;
-// Auto layers: tilted layers are kept when they leave less than this share of the planar layers' overhang.
-constexpr double kTiltedGainShare = 0.5;
 
 double angle_deg(Vec3 a, Vec3 b) {
   const double c = core::dot(core::normalized(a), core::normalized(b));

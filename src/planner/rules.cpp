@@ -30,6 +30,19 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
        "silhouette and built along the direction that leaves the least overhang within the reach",
        {{"self_supporting_deg", alpha}, {"reach_deg", reach_deg}}},
       {"below the plate", "the part below the root's base is a region of its own, built after the root from the cut upwards", {}},
+      {kLayersAsked, "the region's layers are those --layers asked for (planar or tilted)", {}},
+      {kLayersPlanar,
+       "the region keeps planar layers: they leave no overhang, or tilted layers leave no less than half of it, cannot follow the "
+       "part, or the plan on them reads back worse",
+       {{"tilted_gain_share", kTiltedGainShare}}},
+      {kLayersTilted,
+       "the region takes tilted \"3-D\" layers along its centroidal axis (Ruan §4.2.2): its planar layers overhang and the tilted ones "
+       "leave less than this share of it, each thickness in the process's range and the volumetric difference of adjacent layers within "
+       "voldiff (Eq. 9)",
+       {{"tilted_gain_share", kTiltedGainShare},
+        {"voldiff", process.voldiff},
+        {"layer_min_mm", process.layer_min_mm},
+        {"layer_max_mm", process.layer_max_mm}}},
       {kRuleStart, "the root region's first layer starts the build, on the plate", {}},
       {kRuleFather, "a child region starts once its father is complete (Dwivedi: a child is not built before its father)", {}},
       {kRuleContinue, "the region being built goes on with its next layer (Dwivedi Rule 4: layers of a region in layer order)", {}},

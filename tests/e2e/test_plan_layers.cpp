@@ -170,6 +170,11 @@ TEST(PlanLayers, AutoTakesTiltedLayersWhereThePlanarOnesOverhang) {
   EXPECT_NE(region["layers"]["why"].get<std::string>().find("on planar"), std::string::npos);
   EXPECT_TRUE(read_json(dir / "report.json")["support_free"].get<bool>());
   check_readback(dir.path(), "bar");
+  // `explain` names the rule and its parameters from the rule base.
+  const auto why = run_cli("explain '" + (dir / "plan.json").string() + "' --region 0");
+  ASSERT_EQ(why.exit_code, 0) << why.err;
+  EXPECT_NE(why.out.find("tilted layers by \"layers.tilted\""), std::string::npos) << why.out;
+  EXPECT_NE(why.out.find("voldiff = 0.05"), std::string::npos) << why.out;
   // Planar layers along the same direction overhang (the reason auto turned them).
   const auto planar = run_cli("plan '" + stl.string() + "' --strategy single --layers planar --no-html -o '" + (dir / "p").string() + "'");
   ASSERT_EQ(planar.exit_code, 0) << planar.err;

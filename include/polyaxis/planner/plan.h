@@ -33,6 +33,8 @@ const char* layer_choice_name(LayerChoice c);
 inline constexpr const char* kLayersAsked = "layers.asked";      // --layers planar|tilted
 inline constexpr const char* kLayersPlanar = "layers.planar";    // auto: planar layers leave no overhang, or tilted ones do no better
 inline constexpr const char* kLayersTilted = "layers.tilted";    // auto: tilted layers leave less overhang than planar ones
+// Auto layers: tilted layers are kept when they leave less than this share of the planar layers' overhang.
+inline constexpr double kTiltedGainShare = 0.5;
 
 struct PlanOptions {
   Vec3 direction{0, 0, 1};   // build direction in the part's frame
