@@ -281,6 +281,8 @@ const char* strategy_name(Strategy s) {
   return "?";
 }
 
+namespace {
+
 bool uses_tilted(const Plan& plan) {
   return std::any_of(plan.placed_regions.begin(), plan.placed_regions.end(),
                      [](const PlanRegion& r) { return r.layers == slicing::LayerStrategy::kTilted; });
@@ -384,6 +386,8 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
   }
   return out;
 }
+
+}  // namespace
 
 core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                        const process::ProcessConfig& process, const PlanPartOptions& options) {
