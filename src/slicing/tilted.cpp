@@ -303,9 +303,11 @@ core::Result<SliceResult> slice_tilted(const mesh::Mesh& mesh, const SliceOption
   // Each layer goes at least ΔL_min/2 past every corner of the one below: a bound on the count.
   const double diagonal = core::norm(box.max - box.min);
   const auto max_layers = static_cast<std::size_t>(std::ceil(kPi * diagonal / (kUnderShare * o.min_mm))) + 16;
-  double low = INFINITY;
-  for (const Vec3& v : mesh.vertices) low = std::min(low, core::dot(v, d0));
-  const double t0 = std::clamp(o.layer_mm, o.min_mm, o.max_mm);
+  double low = INFINITY, high = -INFINITY;
+  for (const Vec3& v : mesh.vertices) low = std::min(low, core::dot(v, d0)), high = std::max(high, core::dot(v, d0));
+  // The nominal step, but no thicker than the part along the first direction (a plate thinner
+  // than a layer is one layer of its own thickness).
+  const double t0 = std::clamp(std::min(o.layer_mm, high - low), o.min_mm, o.max_mm);
   SliceResult result;
   core::Progress progress("slicing (tilted)", 0);
   // The first layer: planar, half a layer above the lowest point (higher where that is empty:

@@ -183,6 +183,17 @@ TEST(Tilted, GivesUpOnceTheOverhangBudgetIsSpent) {
   EXPECT_TRUE(slice(cup, o).ok());
 }
 
+// A plate thinner than the nominal step is one layer of its own thickness, not a 0.6 mm layer over
+// a 0.4 mm plate (found planning a thin plate: half as much again deposited).
+TEST(Tilted, APlateThinnerThanAStepIsOneLayerOfItsThickness) {
+  const mesh::Mesh plate = repaired(test::box({0, 0, 0}, {80, 80, 0.4}));
+  auto r = slice(plate, tilted_options());
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r.value().layers.size(), 1u);
+  EXPECT_NEAR(r.value().layers[0].thickness_mm(), 0.4, 1e-9);
+  EXPECT_NEAR(r.value().volume_estimate_mm3, 80.0 * 80.0 * 0.4, 1e-6);
+}
+
 INSTANTIATE_TEST_SUITE_P(Bends, TiltedOnBentBars,
                          ::testing::Values(Bend{40, 8, 110, 48, 16}, Bend{60, 6, 60, 30, 24}, Bend{30, 5, 90, 64, 12},
                                            Bend{50, 10, 135, 40, 32}));
