@@ -158,6 +158,26 @@ TEST(PlanLayers, TiltedLayersOnBentBarsKeepTheThicknessInRangeAndReadBackClean) 
   }
 }
 
+// On the B/C table the same layers plan: the machine's own read-back (report.json) finds no
+// collision, every bead grounded, the program on the plan and inside the limits; rs274 accepts it.
+TEST(PlanLayers, TiltedLayersPlanOnTheBCMachineToo) {
+  TempDir dir;
+  const auto stl = dir / "bar.stl";
+  write_file(stl, binary_stl(bent_bar(60, 6, 70, 40, 24)));
+  const std::filesystem::path bc = std::filesystem::path(POLYAXIS_PARTS_DIR).parent_path() / "machines" / "ded5_bc.json";
+  const auto r = run_cli("plan '" + stl.string() + "' --layers tilted --strategy single --machine '" + bc.string() + "' --no-html -o '" +
+                         dir.path().string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_json(dir / "report.json");
+  EXPECT_TRUE(report["support_free"].get<bool>());
+  EXPECT_EQ(report["collisions"].get<int>(), 0);
+  EXPECT_EQ(report["limit_violations"].get<int>(), 0);
+  EXPECT_LE(report["max_tip_deviation_mm"].get<double>(), 0.01);
+  EXPECT_EQ(report["build_check"]["ungrounded_samples"].get<int>(), 0);
+  EXPECT_EQ(report["build_check"]["head_collisions"].get<int>(), 0);
+  expect_rs274_reads(dir.path(), dir / "bar.ngc");
+}
+
 TEST(PlanLayers, AutoTakesTiltedLayersWhereThePlanarOnesOverhang) {
   TempDir dir;
   const auto stl = dir / "bar.stl";
