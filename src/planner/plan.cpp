@@ -297,22 +297,33 @@ void finish_program(Plan& plan, const machine::MachineConfig& machine, const pro
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// The options of REGION's planar (adaptive) slicing.
-slicing::SliceOptions planar_options(const PlanRegion& region, const machine::MachineConfig& machine, const process::ProcessConfig& process,
-                                     const PlanOptions& options) {
+// What REGION's slicings share: its direction, the process's step, thickness range and overhang
+// limit (with the step a tilted torch may take, where the torch can tilt).
+slicing::SliceOptions region_slice_options(const PlanRegion& region, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                           const PlanOptions& options) {
   slicing::SliceOptions slice;
   slice.direction = region.direction;
   slice.layer_mm = process.layer_mm;
   slice.threads = options.threads;
+  slice.min_mm = process.layer_min_mm;
+  slice.max_mm = process.layer_max_mm;
+  slice.limits.overhang_deg = process.self_supporting_deg;
+  if (options.tilt_on_overhang && machine::has_rotary_axes(machine.kind)) {
+    slice.limits.overhang_step_mm = process.max_step_bead_share * process.bead_width_mm;
+  }
+  return slice;
+}
+
+// The options of REGION's planar slicing: adaptive under the cusp and the overhang limit where the
+// process's range is not one value, else uniform at its step.
+slicing::SliceOptions planar_options(const PlanRegion& region, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                     const PlanOptions& options) {
+  slicing::SliceOptions slice = region_slice_options(region, machine, process, options);
   slice.adaptive = process.adaptive_layers && process.layer_min_mm < process.layer_max_mm;
   if (slice.adaptive) {
-    slice.min_mm = process.layer_min_mm;
-    slice.max_mm = process.layer_max_mm;
     slice.limits.cusp_mm = process.cusp_mm;
-    slice.limits.overhang_deg = process.self_supporting_deg;
-    if (options.tilt_on_overhang && machine::has_rotary_axes(machine.kind)) {
-      slice.limits.overhang_step_mm = process.max_step_bead_share * process.bead_width_mm;
-    }
+  } else {
+    slice.limits = {};
   }
   return slice;
 }
@@ -320,18 +331,9 @@ slicing::SliceOptions planar_options(const PlanRegion& region, const machine::Ma
 // The options of REGION's tilted slicing: the process's thickness range, VolDiff and overhang.
 slicing::SliceOptions tilted_options(const PlanRegion& region, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                      const PlanOptions& options) {
-  slicing::SliceOptions slice;
-  slice.direction = region.direction;
+  slicing::SliceOptions slice = region_slice_options(region, machine, process, options);
   slice.tilted = true;
-  slice.layer_mm = process.layer_mm;
-  slice.min_mm = process.layer_min_mm;
-  slice.max_mm = process.layer_max_mm;
-  slice.threads = options.threads;
   slice.limits.voldiff = process.voldiff;
-  slice.limits.overhang_deg = process.self_supporting_deg;
-  if (options.tilt_on_overhang && machine::has_rotary_axes(machine.kind)) {
-    slice.limits.overhang_step_mm = process.max_step_bead_share * process.bead_width_mm;
-  }
   return slice;
 }
 
