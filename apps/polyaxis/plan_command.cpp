@@ -36,6 +36,7 @@ struct PlanCommandOptions {
   std::string layers = "auto";
   planner::PlanPartOptions part_plan;
   std::string root_base;
+  std::string substrate;  // --substrate MESH
   bool json = false;
   bool svg = false;
   bool html = true;
@@ -156,10 +157,32 @@ int run_plan(PlanCommandOptions& o) {
   if (!configs) return report_error(configs.error());
   const machine::MachineConfig& machine = configs.value().machine;
   const process::ProcessConfig& process = configs.value().process;
+  if (!o.substrate.empty() && !opt.prebuilt.empty()) {
+    return report_error(core::make_error(core::ErrorCode::kUsage, "--substrate gives the prebuilt part as its own mesh; it contradicts --prebuilt"));
+  }
+  if (!o.substrate.empty() && opt.strategy == planner::Strategy::kDecompose) {
+    return report_error(core::make_error(core::ErrorCode::kUsage, "--substrate deposits the rest along one direction (--dir); it contradicts --strategy decompose"));
+  }
+  if (!opt.prebuilt.empty() && opt.strategy == planner::Strategy::kSingle) {
+    return report_error(core::make_error(core::ErrorCode::kUsage, "--prebuilt names regions of the decomposition; it contradicts --strategy single"));
+  }
   auto loaded = load_part(o.part);
   if (!loaded) return report_error(loaded.error());
   std::size_t warnings = 0;
   for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
+  if (!o.substrate.empty()) {
+    // Read and repaired as the part is, in its units (--scale).
+    PartOptions substrate = o.part;
+    substrate.path = o.substrate;
+    auto base = load_part(substrate);
+    if (!base) {
+      core::Error e = base.error();
+      e.message = "--substrate: " + e.message;
+      return report_error(e);
+    }
+    for (const auto& w : base.value().warnings) std::fprintf(stderr, "polyaxis: warning: --substrate: %s\n", w.c_str()), ++warnings;
+    opt.substrate = std::move(base.value().repaired.mesh);
+  }
 
   auto result = planner::plan_part(loaded.value().repaired, machine, process, opt);
   if (!result) return report_error(result.error());
@@ -215,6 +238,13 @@ Runner add_plan_command(CLI::App& app) {
                   "Work a decomposition may do, in facet visits (a few seconds by default); 0: no limit")
       ->capture_default_str()->check(CLI::Range(0.0, 1e15));
   add_root_base_option(*cmd, o->root_base);
+  cmd->add_option("--substrate", o->substrate,
+                  "A part already on the table (STL, OBJ, 3MF, STEP or IGES, in the part's frame): it stands on the plate, the part "
+                  "less it is deposited onto it along --dir, and the head keeps clear of it");
+  cmd->add_option("--prebuilt", o->part_plan.prebuilt,
+                  "Regions of the decomposition already made (ids as polyaxis analyze lists them; the root, or regions grown from "
+                  "prebuilt ones): they stand on the table and the rest is deposited onto them")
+      ->delimiter(',');
   cmd->add_option("--perimeters", o->part_plan.plan.perimeters, "Perimeters per island")->capture_default_str()->check(CLI::Range(0, 100));
   cmd->add_option("--path-tolerance-mm", o->chordal_mm, "Largest tool-tip deviation from the path between G-code blocks, mm")
       ->capture_default_str()->check(kFinite & CLI::Range(1e-4, 1.0));

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
+#include <vector>
 
 namespace polyaxis::machine {
 namespace {
@@ -39,6 +41,45 @@ BuildModel make_build_model(const MachineConfig& machine, const process::Process
   const double hy = s.size_y_mm > 0.0 ? s.size_y_mm * 0.5 : (y1 - y0) * 0.5 + s.margin_mm;
   m.substrate = {cx - hx, cy - hy, cx + hx, cy + hy, 0.0, s.thickness_mm};
   return m;
+}
+
+void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                  double spacing_mm) {
+  if (!(spacing_mm > 0.0) || !std::isfinite(spacing_mm)) return;  // no samples rather than no end
+  body.spacing_mm = body.spacing_mm > 0.0 ? std::min(body.spacing_mm, spacing_mm) : spacing_mm;
+  std::set<std::array<double, 3>> seen;
+  for (const auto& t : triangles) {
+    const Vec3 a = vertices[t[0]], b = vertices[t[1]], c = vertices[t[2]];
+    const Vec3 area = core::cross(b - a, c - a);
+    if (!(core::norm(area) > 0.0) || !std::isfinite(core::norm(area))) continue;  // degenerate or not finite
+    const Vec3 n = core::normalized(area);
+    // Split at the longest edge's middle until every edge is within SPACING: each corner of the
+    // pieces is a sample (a sliver gives points along its length only).
+    std::vector<std::array<Vec3, 3>> todo{{a, b, c}};
+    while (!todo.empty()) {
+      const auto [p, q, r] = todo.back();
+      todo.pop_back();
+      const double pq = core::norm(q - p), qr = core::norm(r - q), rp = core::norm(p - r);
+      const double longest = std::max({pq, qr, rp});
+      if (longest <= spacing_mm) {
+        for (const Vec3& x : {p, q, r}) {
+          // A corner shared by the pieces around it is kept once.
+          if (seen.insert({x.x, x.y, x.z}).second) body.surface_mm.push_back(x), body.normals.push_back(n);
+        }
+        continue;
+      }
+      if (longest == pq) {
+        const Vec3 m = (p + q) * 0.5;
+        todo.push_back({p, m, r}), todo.push_back({m, q, r});
+      } else if (longest == qr) {
+        const Vec3 m = (q + r) * 0.5;
+        todo.push_back({p, q, m}), todo.push_back({p, m, r});
+      } else {
+        const Vec3 m = (r + p) * 0.5;
+        todo.push_back({p, q, m}), todo.push_back({m, q, r});
+      }
+    }
+  }
 }
 
 double tip_clearance_mm(const BuildModel& m, Vec3 tip) { return tip.z - surface_under(m, tip.x, tip.y, 0.0); }

@@ -166,4 +166,16 @@ core::Result<Mesh> unite(const std::vector<Mesh>& pieces) {
   return to_mesh(out.value());
 }
 
+core::Result<Mesh> difference(const Mesh& a, const Mesh& b) {
+  SurfaceMesh sa = to_surface_mesh(a), sb = to_surface_mesh(b), out;
+  try {
+    if (!PMP::corefine_and_compute_difference(sa, sb, out)) {
+      return core::make_error(core::ErrorCode::kInfeasible, "the difference of the solids failed (they would meet along an edge or a point only)");
+    }
+  } catch (const std::exception& e) {
+    return core::make_error(core::ErrorCode::kInfeasible, std::string("the difference of the solids failed: ") + e.what());
+  }
+  return to_mesh(out);
+}
+
 }  // namespace polyaxis::mesh

@@ -56,8 +56,16 @@ core::Status place_checks(const std::vector<PlanRegion>& regions, const machine:
     }
   }
   plan.build_model = machine::make_build_model(machine, process, box.min.x, box.min.y, box.max.x, box.max.y);
-  if (auto s = detail::check_region_reach(regions, machine, detail::reach_rad(machine)); !s) return s;
-  return detail::check_region_travel(regions, machine);
+  std::vector<PlanRegion> deposited;
+  for (const PlanRegion& r : regions) {
+    if (!r.prebuilt) {
+      deposited.push_back(r);
+      continue;
+    }
+    machine::add_prebuilt(plan.build_model.prebuilt, r.mesh.vertices, r.mesh.triangles, machine::kPrebuiltSpacingBeads * process.bead_width_mm);
+  }
+  if (auto s = detail::check_region_reach(deposited, machine, detail::reach_rad(machine)); !s) return s;
+  return detail::check_region_travel(deposited, machine);
 }
 
 // Adds to OUT the guarded points strictly between A and B needed for the head to stay clear of
@@ -146,6 +154,32 @@ core::Status first_deposit_on_plate(const Plan& plan, const process::ProcessConf
                             fmt::format("region {} would start {:.2f} mm above the substrate, in mid-air: its layers below are thinner "
                                         "than a bead ({:.2f} mm); another root base (--root-base) or --strategy single would ground it",
                                         region, low, process.bead_width_mm));
+  }
+  return {};
+}
+
+bool has_prebuilt(const std::vector<PlanRegion>& regions) {
+  return std::any_of(regions.begin(), regions.end(), [](const PlanRegion& r) { return r.prebuilt; });
+}
+
+// A prebuilt region's parent and the regions it rests on are prebuilt too: a region cannot be on
+// the table before the one it grows from is built.
+core::Status check_prebuilt(const std::vector<PlanRegion>& regions) {
+  std::set<std::uint32_t> prebuilt;
+  for (const PlanRegion& r : regions) {
+    if (r.prebuilt) prebuilt.insert(r.id);
+  }
+  for (const PlanRegion& r : regions) {
+    if (!r.prebuilt) continue;
+    std::vector<std::uint32_t> below = r.rests_on;
+    if (r.parent) below.push_back(*r.parent);
+    for (const std::uint32_t b : below) {
+      if (prebuilt.count(b)) continue;
+      return core::make_error(core::ErrorCode::kUsage,
+                              fmt::format("region {} cannot be prebuilt: it grows from region {}, which is not (the prebuilt regions are "
+                                          "the root and regions grown from prebuilt ones)",
+                                          r.id, b));
+    }
   }
   return {};
 }
@@ -475,12 +509,18 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   double lowest = INFINITY;
   core::Box3 box;
   for (const Vec3& v : part.mesh.vertices) box.add(plan.placement.rotate(v));
+  for (const PlanRegion& r : given_regions) {  // a substrate may reach beyond the part
+    for (const Vec3& v : r.mesh.vertices) box.add(plan.placement.rotate(v));
+  }
   for (const Vec3& v : given_regions.empty() ? part.mesh.vertices : given_regions.front().mesh.vertices) {
     lowest = std::min(lowest, plan.placement.rotate(v).z);
   }
   const Vec3 centre = machine::work_centre_mm(machine);
   plan.placement.translation_mm = {centre.x - (box.min.x + box.max.x) * 0.5, centre.y - (box.min.y + box.max.y) * 0.5, -lowest};
+  if (auto s = check_prebuilt(given_regions); !s) return s.error();
   std::vector<PlanRegion> regions = given_regions;
+  // The prebuilt regions first (the root among them): they are on the table before anything is laid.
+  std::stable_partition(regions.begin(), regions.end(), [](const PlanRegion& r) { return r.prebuilt; });
   if (regions.empty()) {
     PlanRegion whole;
     whole.mesh = part.mesh;
@@ -499,11 +539,15 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   if (auto s = place_checks(regions, machine, process, plan); !s) return s.error();
   plan.regions = static_cast<std::uint32_t>(regions.size());
   for (PlanRegion& region : regions) {
+    if (region.prebuilt) continue;
     // The whole part's topology is valid only for the unsplit part.
     if (auto st = add_region(plan, region, given_regions.empty() ? &part.topology : nullptr, machine, process, options); !st) return st.error();
   }
   plan.placed_regions = regions;
-  if (plan.layers.layers.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: the part has no layers");
+  if (plan.layers.layers.empty()) {
+    return core::make_error(core::ErrorCode::kInfeasible, has_prebuilt(regions) ? "nothing to build: the prebuilt part is the whole part"
+                                                                                : "nothing to build: the part has no layers");
+  }
   auto t0 = Clock::now();
   order_layers(plan, machine, process);
   // Tilts eased where the head would strike what is built before them, in build order; the support
@@ -515,9 +559,14 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   detail::check_support(plan, process);
   plan.times.support_s = since(t0);
   t0 = Clock::now();
-  detail::measure_fidelity(plan, std::abs(mesh::signed_volume(part.mesh)));
+  double deposited_volume = 0.0;
+  for (const PlanRegion& r : regions) deposited_volume += r.prebuilt ? 0.0 : std::abs(mesh::signed_volume(r.mesh));
+  detail::measure_fidelity(plan, deposited_volume);
   plan.times.fidelity_s = since(t0);
-  if (auto s = first_deposit_on_plate(plan, process); !s) return s.error();
+  // On a prebuilt part the first bead rests on its surface (the read-back check judges that).
+  if (!has_prebuilt(regions)) {
+    if (auto s = first_deposit_on_plate(plan, process); !s) return s.error();
+  }
   t0 = Clock::now();
 
   finish_program(plan, machine, process, options, deposit);

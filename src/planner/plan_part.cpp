@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "polyaxis/mesh/plane_cut.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/self_intersections.h"
 #include "reach.h"
@@ -67,6 +68,61 @@ core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const machin
   auto plan = make_plan(part, machine, process, po);
   if (!plan) return plan.error();
   return Candidate{std::move(plan.value()), std::nullopt, Strategy::kSingle, {}};
+}
+
+// The part less the substrate, deposited onto it along O.direction (--substrate).
+core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                          const process::ProcessConfig& process, const PlanPartOptions& o) {
+  auto rest = mesh::difference(part.mesh, *o.substrate);
+  if (!rest) return core::make_error(rest.error().code, "--substrate: the part less the substrate: " + rest.error().message);
+  if (rest.value().triangles.empty()) {
+    return core::make_error(core::ErrorCode::kInfeasible, "--substrate: nothing to build: the substrate holds the whole part");
+  }
+  const Vec3 up = core::normalized(o.direction);
+  PlanRegion base;
+  base.id = 0;
+  base.mesh = *o.substrate;
+  base.direction = up;
+  base.prebuilt = true;
+  base.rule = kRegionSubstrate;
+  base.volume_mm3 = std::abs(mesh::signed_volume(base.mesh));
+  base.base_point = base.mesh.vertices.front();
+  for (const Vec3& v : base.mesh.vertices) {
+    if (core::dot(v, up) < core::dot(base.base_point, up)) base.base_point = v;
+  }
+  PlanRegion top;
+  top.id = 1;
+  top.mesh = std::move(rest.value());
+  top.direction = up;
+  top.parent = 0;
+  top.rests_on = {0};
+  top.rule = kRegionOnSubstrate;
+  top.volume_mm3 = std::abs(mesh::signed_volume(top.mesh));
+  top.base_point = top.mesh.vertices.front();
+  for (const Vec3& v : top.mesh.vertices) {
+    if (core::dot(v, up) < core::dot(top.base_point, up)) top.base_point = v;
+  }
+  PlanOptions po = o.plan;
+  po.direction = up;
+  auto plan = make_plan(part, machine, process, po, {std::move(base), std::move(top)});
+  if (!plan) return plan.error();
+  return Candidate{std::move(plan.value()), std::nullopt, Strategy::kSingle, {}};
+}
+
+// Marks the regions O.prebuilt names as prebuilt; kUsage for an id that is not a region.
+core::Status mark_prebuilt(std::vector<PlanRegion>& regions, const PlanPartOptions& o) {
+  for (const std::uint32_t id : o.prebuilt) {
+    auto it = std::find_if(regions.begin(), regions.end(), [&](const PlanRegion& r) { return r.id == id; });
+    if (it == regions.end()) {
+      std::vector<std::uint32_t> ids;
+      for (const PlanRegion& r : regions) ids.push_back(r.id);
+      return core::make_error(core::ErrorCode::kUsage,
+                              fmt::format("--prebuilt {}: the decomposition has no such region (its regions: {}; polyaxis analyze lists them)", id,
+                                          fmt::join(ids, ", ")));
+    }
+    it->prebuilt = true;
+  }
+  return {};
 }
 
 core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
@@ -148,6 +204,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
                                        r.unsupported_area_mm2));
     }
   }
+  if (auto st = mark_prebuilt(regions, o); !st) return st.error();
   PlanOptions po = o.plan;
   po.direction = root_dir.value();
   auto plan = make_plan(part, machine, process, po, regions);
@@ -166,6 +223,21 @@ bool better(const Plan& a, const Plan& b) {
 
 core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                const PlanPartOptions& o, std::string& why) {
+  if (o.substrate) {
+    if (o.strategy == Strategy::kDecompose) {
+      return core::make_error(core::ErrorCode::kUsage, "--substrate deposits the rest along one direction (--dir); it contradicts --strategy decompose");
+    }
+    why = "the part less the substrate, along the given direction, onto the substrate (--substrate)";
+    return plan_on_substrate(part, machine, process, o);
+  }
+  if (!o.prebuilt.empty()) {
+    if (o.strategy == Strategy::kSingle) {
+      return core::make_error(core::ErrorCode::kUsage, "--prebuilt names regions of the decomposition; it contradicts --strategy single");
+    }
+    why = fmt::format("the part's regions, each along its own direction, region{} {} prebuilt (--prebuilt)", o.prebuilt.size() == 1 ? "" : "s",
+                      fmt::join(o.prebuilt, ", "));
+    return plan_decomposed(part, machine, process, o, o.root_base);
+  }
   if (o.strategy == Strategy::kSingle) {
     why = "one region along the given direction (--strategy single)";
     return plan_single(part, machine, process, o);
@@ -322,7 +394,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
       return alt;
     }
   }
-  if (options.strategy == Strategy::kAuto && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
+  if (options.strategy == Strategy::kAuto && options.prebuilt.empty() && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
     // The decomposition's program cannot be written (a limit of the machine that only shows in
     // the program, such as C winding past its end stops on a tilted region), or, read back, a
     // region starts in mid-air, or the head strikes something no order or tilt could avoid: one
@@ -370,9 +442,11 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     for (std::size_t i = 0; i < out.check.collision_list.size() && i < kNamedCollisions; ++i) {
       first += (i ? "; " : "") + describe(out.check.collision_list[i]);
     }
+    const std::uint64_t prebuilt = out.check.prebuilt_collisions;
     const std::string what = fmt::format("read back, the head strikes something at {} samples (the plate or table at {}, earlier deposit "
-                                         "at {}); the first: {}",
-                                         out.check.collisions, out.check.head_collisions, out.check.material_collisions, first);
+                                         "at {}{}); the first: {}",
+                                         out.check.collisions, out.check.head_collisions, out.check.material_collisions - prebuilt,
+                                         prebuilt > 0 ? fmt::format(", the prebuilt part at {}", prebuilt) : std::string(), first);
     if (!options.allow_collisions) {
       return core::make_error(core::ErrorCode::kInfeasible,
                               fmt::format("{}: no build order or torch tilt removed them; a slimmer head (machine nozzle), another "

@@ -30,6 +30,12 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
        "silhouette and built along the direction that leaves the least overhang within the reach",
        {{"self_supporting_deg", alpha}, {"reach_deg", reach_deg}}},
       {"below the plate", "the part below the root's base is a region of its own, built after the root from the cut upwards", {}},
+      {kRegionSubstrate,
+       "a part already on the table (--substrate): it stands on the plate, is not deposited, and the head keeps clear of it", {}},
+      {kRegionOnSubstrate,
+       "the part less the substrate (--substrate), deposited onto the substrate along the given direction; its first beads rest on the "
+       "substrate's surface",
+       {}},
       {kLayersAsked, "the region's layers are those --layers asked for (planar or tilted)", {}},
       {kLayersPlanar,
        "the region keeps planar layers: they leave no overhang, or tilted layers leave no less than half of it, cannot follow the "

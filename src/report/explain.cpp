@@ -171,6 +171,7 @@ core::Result<Explanation> explain_region(const PlanView& view, std::uint32_t id)
   j["layers"] = count;
   j["layer_strategy"] = {{"strategy", slicing::layer_strategy_name(r->layers)}, {"rule", rule_json(view, r->layers_rule)}, {"why", r->layers_why}};
   j["build_positions"] = first ? Json::array({*first, *last}) : Json(nullptr);
+  j["prebuilt"] = r->prebuilt;
   std::string t = fmt::format("region {}{}\n", id, r->parent ? fmt::format(", child of region {}", *r->parent) : std::string(", the root"));
   t += fmt::format("  exists by \"{}\": {}{}\n", r->rule, says(view, r->rule), params_text(j["rule"]));
   if (!r->rests_on.empty()) {
@@ -184,6 +185,10 @@ core::Result<Explanation> explain_region(const PlanView& view, std::uint32_t id)
   t += fmt::format("  {:.1f} mm3; {:.1f} mm2 overhang along its direction as decomposed; {}\n", r->volume_mm3, r->overhang_mm2,
                    r->support_free ? "support-free as planned" : "not support-free as planned");
   if (first) t += fmt::format("  {} layers, at build positions {} to {}\n", count, *first, *last);
+  if (r->prebuilt) {
+    t += "  prebuilt: on the table before the program starts, not deposited; the head is checked against it\n";
+    return Explanation{t, j.dump(2) + "\n"};
+  }
   t += fmt::format("  {} layers by \"{}\": {}{}{}\n", slicing::layer_strategy_name(r->layers), r->layers_rule, says(view, r->layers_rule),
                    params_text(j["layer_strategy"]["rule"]), r->layers_why.empty() ? "" : "; here: " + r->layers_why);
   return Explanation{t, j.dump(2) + "\n"};

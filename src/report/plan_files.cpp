@@ -67,6 +67,7 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
                         {"process_on_dwell_s", check->process_on_dwell_s},
                         {"material_checks", check->material_checks},
                         {"material_collisions", check->material_collisions},
+                        {"prebuilt_collisions", check->prebuilt_collisions},
                         {"worst_material_depth_mm", check->worst_material_depth_mm},
                         {"problems", check->first_problems}};
     j["collisions"] = check->collisions;

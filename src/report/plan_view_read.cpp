@@ -60,6 +60,25 @@ double get_finite(const Json& j) {
   return x;
 }
 
+// Surface samples of prebuilt regions a plan may ask for, at most (a fuzzed plan must not make a
+// reader run out of memory).
+constexpr double kMaxPrebuiltSamples = 2e7;
+
+// The build model's prebuilt body from the regions marked prebuilt (plan.json keeps their meshes,
+// not the samples).
+void add_prebuilt_regions(PlanView& view) {
+  const double spacing = machine::kPrebuiltSpacingBeads * view.bead_width_mm;
+  for (const planner::PlanRegion& r : view.regions) {
+    if (!r.prebuilt) continue;
+    double area = 0.0;
+    for (std::size_t f = 0; f < r.mesh.triangles.size(); ++f) area += 0.5 * core::norm(mesh::face_area_vector(r.mesh, f));
+    if (!(spacing > 0.0) || !std::isfinite(area) || area / (spacing * spacing) > kMaxPrebuiltSamples) {
+      throw std::runtime_error(fmt::format("prebuilt region {}: its surface is too large for the bead width", r.id));
+    }
+    machine::add_prebuilt(view.build_model.prebuilt, r.mesh.vertices, r.mesh.triangles, spacing);
+  }
+}
+
 machine::BuildModel get_build_model(const Json& j) {
   machine::BuildModel m;
   const Json& n = j.at("nozzle");
@@ -162,6 +181,7 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
         region.layers_rule = l.at("rule").get<std::string>();
         region.layers_why = l.at("why").get<std::string>();
       }
+      if (r.contains("prebuilt")) region.prebuilt = r.at("prebuilt").get<bool>();  // plans written before --substrate have none
       region.mesh.vertices = get_flat(r.at("vertices"));
       const Json& tris = r.at("triangles");
       if (!tris.is_array() || tris.size() % 3 != 0) throw std::runtime_error("a triangle list is not a multiple of 3 indices");
@@ -257,6 +277,7 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
         view.reorientations.push_back(std::move(o));
       }
       view.build_model = get_build_model(doc.at("head"));
+      add_prebuilt_regions(view);
     }
   } catch (const std::exception& e) {
     return core::make_error(core::ErrorCode::kInvalidInput, fmt::format("{}: not a polyaxis plan: {}", source, e.what()));

@@ -95,10 +95,10 @@ std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
     for (const auto& t : r.mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
     fmt::format_to(std::back_inserter(out),
                    "{}{{\"id\":{},\"parent\":{},\"build_direction\":{},\"base_point\":{},\"volume_mm3\":{:.6g},\"support_free\":{},"
-                   "\"layers\":{{\"strategy\":\"{}\",\"why\":{}}},\"positions\":\"{}\",\"indices\":\"{}\"}}",
+                   "\"layers\":{{\"strategy\":\"{}\",\"why\":{}}},\"prebuilt\":{},\"positions\":\"{}\",\"indices\":\"{}\"}}",
                    i ? "," : "", r.id, r.parent ? fmt::to_string(*r.parent) : std::string("null"), vec(core::normalized(r.direction)),
                    vec(r.base_point), mesh::signed_volume(r.mesh), r.support_free, slicing::layer_strategy_name(r.layers),
-                   nlohmann::json(r.layers_why).dump(), base64(positions), base64(indices));
+                   nlohmann::json(r.layers_why).dump(), r.prebuilt, base64(positions), base64(indices));
   }
   out += "],\"axis\":";
   if (!view.axis) {

@@ -27,6 +27,12 @@ PointClearance clearance_at(const machine::BuildModel& model, const std::vector<
       out.deposit_layer = p.layer, out.deposit_region = p.region;
     }
   };
+  for (const detail::MaterialSample& s : detail::prebuilt_material(model.prebuilt, radius)) {
+    const core::Vec3 q{s.position[0], s.position[1], s.position[2]};
+    if (core::norm(q - tip) <= kIgnorePrebuiltBeads * bead_mm) continue;
+    const double d = head.distance(q - tip, axis) - radius;
+    if (!out.deposit_mm || d < *out.deposit_mm) out.deposit_mm = d, out.deposit_point = q, out.deposit_body = kPrebuiltBody;
+  }
   for (std::size_t i = 1; i < point; ++i) {
     const post::ProgramPoint& a = program[i - 1];
     const post::ProgramPoint& b = program[i];

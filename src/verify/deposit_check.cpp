@@ -18,8 +18,9 @@ struct DepositCheck::Impl {
 namespace {
 
 // The deposit of POINTS as samples at most half a bead apart, and the count before each point.
-std::vector<detail::MaterialSample> samples_of(const std::vector<PlannedPoint>& points, double bead_mm, std::vector<std::uint32_t>& before) {
-  std::vector<detail::MaterialSample> out;
+// The prebuilt body (OUT's first samples) comes before them all.
+std::vector<detail::MaterialSample> samples_of(const std::vector<PlannedPoint>& points, double bead_mm, std::vector<detail::MaterialSample> out,
+                                               std::vector<std::uint32_t>& before) {
   before.assign(points.size(), 0);
   const double step = 0.5 * bead_mm;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -40,16 +41,16 @@ std::vector<detail::MaterialSample> samples_of(const std::vector<PlannedPoint>& 
 
 DepositCheck::DepositCheck(const machine::BuildModel& model, const std::vector<PlannedPoint>& points, double bead_mm) {
   std::vector<std::uint32_t> before;
-  auto samples = samples_of(points, bead_mm, before);
-  impl_.reset(new Impl{detail::HeadProfile(model), detail::MaterialIndex(std::move(samples)), std::move(before),
-                       std::hypot(0.5 * bead_mm, 0.25 * bead_mm), kIgnoreBeads * bead_mm});
+  const double radius = std::hypot(0.5 * bead_mm, 0.25 * bead_mm);
+  auto samples = samples_of(points, bead_mm, detail::prebuilt_material(model.prebuilt, radius), before);
+  impl_.reset(new Impl{detail::HeadProfile(model), detail::MaterialIndex(std::move(samples), kIgnorePrebuiltBeads * bead_mm), std::move(before), radius, kIgnoreBeads * bead_mm});
 }
 
 DepositCheck::~DepositCheck() = default;
 
 bool DepositCheck::strikes(core::Vec3 tip, core::Vec3 axis, std::size_t point, double margin_mm, double turn_rad) const {
   const std::uint32_t before = point < impl_->before.size() ? impl_->before[point] : static_cast<std::uint32_t>(impl_->index.size());
-  return impl_->index.deepest(impl_->head, tip, core::normalized(axis), before, impl_->radius, impl_->ignore, margin_mm, turn_rad).has_value();
+  return impl_->index.deepest(impl_->head, tip, core::normalized(axis), before, impl_->radius, impl_->ignore, margin_mm, turn_rad, true).has_value();
 }
 
 }  // namespace polyaxis::verify

@@ -8,6 +8,18 @@
 #include <numbers>
 
 namespace polyaxis::verify::detail {
+
+std::vector<MaterialSample> prebuilt_material(const machine::PrebuiltBody& body, double radius) {
+  std::vector<MaterialSample> out;
+  out.reserve(body.surface_mm.size());
+  for (std::size_t i = 0; i < body.surface_mm.size(); ++i) {
+    const Vec3 c = body.surface_mm[i] - body.normals[i] * (0.5 * radius);
+    out.push_back({{static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)}, static_cast<std::uint32_t>(i), kPrebuiltLayer,
+                   kPrebuiltLayer});
+  }
+  return out;
+}
+
 namespace {
 
 constexpr std::uint32_t kLeafSize = 8;
@@ -100,7 +112,9 @@ double HeadProfile::distance(Vec3 d, Vec3 axis) const {
   return best;
 }
 
-MaterialIndex::MaterialIndex(std::vector<MaterialSample> samples) : samples_(std::move(samples)) {
+MaterialIndex::MaterialIndex(std::vector<MaterialSample> samples, double prebuilt_ignore_mm)
+    : samples_(std::move(samples)), prebuilt_ignore_mm_(prebuilt_ignore_mm) {
+  has_prebuilt_ = std::any_of(samples_.begin(), samples_.end(), [](const MaterialSample& s) { return s.layer == kPrebuiltLayer; });
   if (samples_.empty()) return;
   const auto n = static_cast<std::uint32_t>(samples_.size());
   nodes_.resize(subtree_nodes(n));
@@ -153,9 +167,10 @@ void MaterialIndex::build(std::uint32_t id, std::uint32_t first, std::uint32_t c
 }
 
 std::optional<MaterialHit> MaterialIndex::deepest(const HeadProfile& head, Vec3 tip, Vec3 axis, std::uint32_t before, double radius_mm,
-                                                  double ignore_mm, double margin_mm, double turn_rad) const {
+                                                  double ignore_mm, double margin_mm, double turn_rad, bool any) const {
   std::optional<MaterialHit> best;
   if (nodes_.empty()) return best;
+  const double prebuilt_mm = std::min(ignore_mm, prebuilt_ignore_mm_), near_mm = has_prebuilt_ ? prebuilt_mm : ignore_mm;
   std::uint32_t stack[64];
   int top = 0;
   stack[top++] = 0;
@@ -166,7 +181,7 @@ std::optional<MaterialHit> MaterialIndex::deepest(const HeadProfile& head, Vec3 
     const Vec3 c = (lo + hi) * 0.5;
     const double rho = 0.5 * core::norm(hi - lo);
     const double dc = core::norm(c - tip);
-    if (dc + rho <= ignore_mm) continue;  // all of it beside the tip
+    if (dc + rho <= near_mm) continue;  // all of it beside the tip
     const double reach = radius_mm + margin_mm + turn_rad * (dc + rho);
     if (!head.may_touch(lo, hi, c, rho, tip, axis, reach)) continue;
     if (n.count == 0) {
@@ -180,11 +195,12 @@ std::optional<MaterialHit> MaterialIndex::deepest(const HeadProfile& head, Vec3 
       if (s.stamp >= before) continue;
       const Vec3 p{s.position[0], s.position[1], s.position[2]};
       const double d = core::norm(p - tip);
-      if (d <= ignore_mm) continue;
+      if (d <= (s.layer == kPrebuiltLayer ? prebuilt_mm : ignore_mm)) continue;
       const double sd = head.distance(p - tip, axis);
       if (sd > radius_mm + margin_mm + turn_rad * d) continue;
       const double depth = radius_mm - sd;
       if (!best || depth > best->depth_mm) best = MaterialHit{i, depth};
+      if (any) return best;
     }
   }
   return best;

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <vector>
@@ -51,6 +52,13 @@ struct MaterialSample {
   std::int32_t layer = 0, region = 0;
 };
 
+// The prebuilt body's surface as material laid before the whole program: one ball of RADIUS per
+// surface point, its centre half a radius inside the surface (the balls' union covers the surface
+// when the points are at most 0.84 radius apart, and bulges at most half a radius out of it);
+// stamps 0, 1, … and layer and region −1 (kPrebuiltLayer).
+inline constexpr std::int32_t kPrebuiltLayer = -1;
+std::vector<MaterialSample> prebuilt_material(const machine::PrebuiltBody& body, double radius);
+
 struct MaterialHit {
   std::size_t sample = 0;  // index into the samples given to the index
   double depth_mm = 0.0;   // how far the material's ball reaches into the head (may be < 0 within the margin)
@@ -62,15 +70,18 @@ struct MaterialHit {
 // depend on the thread count; a query visits the nodes within reach of the head.
 class MaterialIndex {
  public:
-  explicit MaterialIndex(std::vector<MaterialSample> samples);
+  // Samples of a prebuilt part (layer kPrebuiltLayer) are left out within PREBUILT_IGNORE_MM of the
+  // tip (when less than a query's IGNORE_MM): the part is not the bead being laid.
+  explicit MaterialIndex(std::vector<MaterialSample> samples, double prebuilt_ignore_mm = std::numeric_limits<double>::infinity());
   const MaterialSample& sample(std::size_t i) const { return samples_[i]; }
   std::size_t size() const { return samples_.size(); }
 
   // The deepest sample laid before BEFORE (stamp < BEFORE) and farther than IGNORE_MM from TIP
   // whose ball of RADIUS_MM comes within MARGIN_MM + TURN_RAD · (its distance from the tip) of
-  // the head at (TIP, AXIS); none when there is none.
+  // the head at (TIP, AXIS); none when there is none. With ANY, the first such sample found
+  // instead of the deepest (a yes-or-no question answered without visiting the rest).
   std::optional<MaterialHit> deepest(const HeadProfile& head, Vec3 tip, Vec3 axis, std::uint32_t before, double radius_mm,
-                                     double ignore_mm, double margin_mm, double turn_rad) const;
+                                     double ignore_mm, double margin_mm, double turn_rad, bool any = false) const;
 
  private:
   struct Node {
@@ -83,6 +94,8 @@ class MaterialIndex {
   void build(std::uint32_t id, std::uint32_t first, std::uint32_t count, int depth);
 
   std::vector<MaterialSample> samples_;
+  double prebuilt_ignore_mm_;
+  bool has_prebuilt_ = false;
   std::vector<Node> nodes_;
   std::map<std::uint32_t, std::uint32_t> subtree_sizes_;  // nodes of a subtree of so many samples
 };

@@ -183,7 +183,7 @@ HeadQuery between(const HeadQuery& a, const HeadQuery& b, double u) {
 // I − 1 to I + 1 is checked at kRefinePieces poses per step, each with the margin of its own
 // (kRefinePieces times smaller) gaps. The deepest hit, none when the finer poses all clear.
 std::optional<detail::MaterialHit> refine(const std::vector<HeadQuery>& samples, std::size_t i, const detail::MaterialIndex& index,
-                                          const detail::HeadProfile& head, double radius, double ignore) {
+                                          const detail::HeadProfile& head, double radius, double ignore, bool any) {
   std::optional<detail::MaterialHit> best;
   const HeadQuery& at = samples[i];
   for (std::size_t j = i > 0 ? i : i + 1; j <= i + 1 && j < samples.size(); ++j) {
@@ -192,8 +192,9 @@ std::optional<detail::MaterialHit> refine(const std::vector<HeadQuery>& samples,
     if (b.gap_mm == 0.0f && b.gap_rad == 0.0f && j != i) continue;
     for (int k = 0; k <= kRefinePieces; ++k) {
       const HeadQuery q = between(a, b, static_cast<double>(k) / kRefinePieces);
-      auto hit = index.deepest(head, vec(q.tip), vec(q.axis), at.before, radius, ignore, 0.5 * q.gap_mm, 0.5 * q.gap_rad);
+      auto hit = index.deepest(head, vec(q.tip), vec(q.axis), at.before, radius, ignore, 0.5 * q.gap_mm, 0.5 * q.gap_rad, any);
       if (hit && (!best || hit->depth_mm > best->depth_mm)) best = hit;
+      if (any && best && best->depth_mm >= 0.0) return best;
     }
   }
   return best;
@@ -218,6 +219,9 @@ std::vector<std::array<float, 3>> common_axes(const std::vector<HeadQuery>& samp
   return out;
 }
 
+// Samples checked side by side in the fine pass of check_material, in program order.
+constexpr std::size_t kDenseBlock = 4096;
+
 // Checks the samples against the material (in parallel) in two passes: every COARSE sample (at
 // most kQueryBeads / kQueryDeg apart) with the margin of the gaps to its coarse neighbours, then,
 // around those that come within it, every sample with the margin of its own gaps. Adds the
@@ -227,23 +231,25 @@ void check_material(const std::vector<HeadQuery>& samples, const std::vector<std
   const detail::HeadProfile head(model);
   // A bead is covered by balls at most kMaterialBeads apart of radius √((bead/2)² + (gap/2)²).
   const double radius = std::hypot(0.5 * bead_mm, 0.5 * kMaterialBeads * bead_mm), ignore = kIgnoreBeads * bead_mm;
-  const detail::BelowTheTip below(common_axes(samples, coarse), material, model, radius, ignore);
-  const detail::MaterialIndex index(std::move(material));
+  const double prebuilt_ignore = kIgnorePrebuiltBeads * bead_mm;
+  // The shortcut is exact for the nearest material it may leave out.
+  const detail::BelowTheTip below(common_axes(samples, coarse), material, model, radius, model.prebuilt.empty() ? ignore : prebuilt_ignore);
+  const detail::MaterialIndex index(std::move(material), prebuilt_ignore);
   // The travel and turn from sample A to sample B (A < B), summed over the samples between.
   std::vector<double> run_mm(samples.size() + 1, 0.0), run_rad(samples.size() + 1, 0.0);
   for (std::size_t i = 0; i < samples.size(); ++i) run_mm[i + 1] = run_mm[i] + samples[i].gap_mm, run_rad[i + 1] = run_rad[i] + samples[i].gap_rad;
-  auto check = [&](std::size_t i, std::size_t prev, std::size_t next) {
+  auto check = [&](std::size_t i, std::size_t prev, std::size_t next, bool any) {
     // Gaps to the neighbours: the sums over (prev, i] and (i, next].
     const double gap = std::max(run_mm[i + 1] - run_mm[prev + 1], run_mm[next + 1] - run_mm[i + 1]);
     const double turn = std::max(run_rad[i + 1] - run_rad[prev + 1], run_rad[next + 1] - run_rad[i + 1]);
     const HeadQuery& q = samples[i];
     if (below.clear(q.tip, q.axis, q.before, 0.5 * gap, 0.5 * turn)) return std::optional<detail::MaterialHit>{};
-    return index.deepest(head, vec(q.tip), vec(q.axis), q.before, radius, ignore, 0.5 * gap, 0.5 * turn);
+    return index.deepest(head, vec(q.tip), vec(q.axis), q.before, radius, ignore, 0.5 * gap, 0.5 * turn, any);
   };
   std::vector<char> near(coarse.size(), 0);
   tbb::parallel_for(std::size_t{0}, coarse.size(), [&](std::size_t k) {
     const std::size_t prev = k > 0 ? coarse[k - 1] : coarse[k], next = k + 1 < coarse.size() ? coarse[k + 1] : coarse[k];
-    near[k] = check(coarse[k], prev, next) ? 1 : 0;
+    near[k] = check(coarse[k], prev, next, true) ? 1 : 0;
   });
   out.material_checks = coarse.size();
   std::vector<std::uint32_t> dense;  // the samples around the coarse ones that came near, in order
@@ -252,17 +258,27 @@ void check_material(const std::vector<HeadQuery>& samples, const std::vector<std
     const std::size_t from = k > 0 ? coarse[k - 1] + 1 : 0, to = k + 1 < coarse.size() ? coarse[k + 1] : samples.size() - 1;
     for (std::size_t i = std::max<std::size_t>(from, dense.empty() ? 0 : dense.back() + 1); i <= to; ++i) dense.push_back(static_cast<std::uint32_t>(i));
   }
+  // In program order, a block at a time: the deepest ball at each sample until kMaxListedCollisions
+  // are found, then the first ball found (a program striking a prebuilt part all along would
+  // otherwise visit every ball the head overlaps at every sample).
   std::vector<std::optional<detail::MaterialHit>> hits(dense.size());
-  tbb::parallel_for(std::size_t{0}, dense.size(), [&](std::size_t k) {
-    const std::size_t i = dense[k];
-    hits[k] = check(i, i > 0 ? i - 1 : i, i + 1 < samples.size() ? i + 1 : i);
-    // Within the margin only: the motion to the neighbours, finer, with its own smaller margin.
-    if (hits[k] && hits[k]->depth_mm < 0.0) hits[k] = refine(samples, i, index, head, radius, ignore);
-  });
+  std::size_t found = 0;
+  for (std::size_t from = 0; from < dense.size(); from += kDenseBlock) {
+    const std::size_t to = std::min(dense.size(), from + kDenseBlock);
+    const bool any = found >= kMaxListedCollisions;
+    tbb::parallel_for(from, to, [&](std::size_t k) {
+      const std::size_t i = dense[k];
+      hits[k] = check(i, i > 0 ? i - 1 : i, i + 1 < samples.size() ? i + 1 : i, any);
+      // Within the margin only: the motion to the neighbours, finer, with its own smaller margin.
+      if (hits[k] && hits[k]->depth_mm < 0.0) hits[k] = refine(samples, i, index, head, radius, ignore, any);
+    });
+    for (std::size_t k = from; k < to; ++k) found += hits[k] ? 1 : 0;
+  }
   out.material_checks += dense.size();
   for (std::size_t k = 0; k < dense.size(); ++k) {
     if (!hits[k]) continue;
     ++out.material_collisions;
+    if (index.sample(hits[k]->sample).layer == detail::kPrebuiltLayer) ++out.prebuilt_collisions;
     out.worst_material_depth_mm = std::max(out.worst_material_depth_mm, hits[k]->depth_mm);
     if (out.collision_places.size() < kMaxCollisionPlaces) {
       const HeadQuery& at = samples[dense[k]];
@@ -271,7 +287,8 @@ void check_material(const std::vector<HeadQuery>& samples, const std::vector<std
     if (out.collision_list.size() >= kMaxListedCollisions) continue;
     const detail::MaterialSample& s = index.sample(hits[k]->sample);
     const HeadQuery& q = samples[dense[k]];
-    out.collision_list.push_back({q.line, q.layer, q.region, vec(q.tip), fmt::format("deposit of layer {} region {}", s.layer, s.region),
+    out.collision_list.push_back({q.line, q.layer, q.region, vec(q.tip),
+                                  s.layer == detail::kPrebuiltLayer ? std::string(kPrebuiltBody) : fmt::format("deposit of layer {} region {}", s.layer, s.region),
                                   hits[k]->depth_mm});
   }
 }
@@ -379,7 +396,10 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
     for (const Pending& p : this_layer) grid.add(p.tip);
     this_layer.clear();
   };
-  std::vector<detail::MaterialSample> material;
+  // A prebuilt body is material laid before the program, and ground the first beads rest on.
+  std::vector<detail::MaterialSample> material =
+      detail::prebuilt_material(model.prebuilt, std::hypot(0.5 * process.bead_width_mm, 0.5 * kMaterialBeads * process.bead_width_mm));
+  for (const Vec3& p : model.prebuilt.surface_mm) grid.add(p);
   std::vector<HeadQuery> head_samples;
   std::vector<std::uint32_t> coarse;
   double since_coarse_mm = 0.0, since_coarse_rad = 0.0, since_material_mm = 0.0;

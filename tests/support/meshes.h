@@ -1,6 +1,7 @@
 // Test meshes made in code, served by kind so a property can be checked on all of them.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -171,6 +172,63 @@ inline RawMesh prism_xz(const std::vector<std::array<double, 2>>& outline, doubl
   }
   if (signed_volume_of(mesh) < 0.0) {
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  }
+  return mesh;
+}
+
+// A closed cylinder of radius R from BASE along AXIS (any length > 0) for LENGTH mm, N sides.
+inline RawMesh cylinder(core::Vec3 base, core::Vec3 axis, double r, double length, std::uint32_t n) {
+  const core::Vec3 a = core::normalized(axis);
+  const core::Vec3 helper = std::abs(a.x) < 0.9 ? core::Vec3{1, 0, 0} : core::Vec3{0, 1, 0};
+  const core::Vec3 u = core::normalized(core::cross(a, helper)), v = core::cross(a, u);
+  const double two_pi = 2.0 * 3.14159265358979323846;
+  RawMesh mesh;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double t = two_pi * i / n;
+    const core::Vec3 p = base + (u * std::cos(t) + v * std::sin(t)) * r;
+    mesh.points.push_back(p);
+    mesh.points.push_back(p + a * length);
+  }
+  const auto bottom = static_cast<std::uint32_t>(mesh.points.size());
+  mesh.points.push_back(base);
+  mesh.points.push_back(base + a * length);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t j = (i + 1) % n;
+    mesh.triangles.push_back({2 * i, 2 * j, 2 * j + 1});
+    mesh.triangles.push_back({2 * i, 2 * j + 1, 2 * i + 1});
+    mesh.triangles.push_back({bottom, 2 * j, 2 * i});
+    mesh.triangles.push_back({bottom + 1, 2 * i + 1, 2 * j + 1});
+  }
+  return mesh;
+}
+
+// A spherical cap on the XY plane: the sphere of radius R cut at height H (0 < H <= R) above its
+// centre's side: its base disc at z = 0 and its top at z = H; N segments around, M rings.
+inline RawMesh spherical_cap(double r, double h, std::uint32_t n, std::uint32_t m) {
+  const double two_pi = 2.0 * 3.14159265358979323846;
+  const double zc = h - r;  // the sphere's centre
+  const double phi0 = std::acos(std::clamp(-zc / r, -1.0, 1.0));  // polar angle of the base ring
+  RawMesh mesh;
+  for (std::uint32_t k = 0; k < m; ++k) {  // rings from the base (k = 0) up
+    const double phi = phi0 * (1.0 - static_cast<double>(k) / m);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const double t = two_pi * i / n;
+      mesh.points.push_back({r * std::sin(phi) * std::cos(t), r * std::sin(phi) * std::sin(t), k == 0 ? 0.0 : zc + r * std::cos(phi)});
+    }
+  }
+  const auto top = static_cast<std::uint32_t>(mesh.points.size());
+  mesh.points.push_back({0.0, 0.0, h});
+  mesh.points.push_back({0.0, 0.0, 0.0});
+  auto id = [&](std::uint32_t k, std::uint32_t i) { return k * n + i % n; };
+  for (std::uint32_t k = 0; k + 1 < m; ++k) {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      mesh.triangles.push_back({id(k, i), id(k, i + 1), id(k + 1, i + 1)});
+      mesh.triangles.push_back({id(k, i), id(k + 1, i + 1), id(k + 1, i)});
+    }
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    mesh.triangles.push_back({id(m - 1, i), id(m - 1, i + 1), top});
+    mesh.triangles.push_back({top + 1, id(0, i + 1), id(0, i)});
   }
   return mesh;
 }

@@ -68,10 +68,45 @@ inline std::vector<std::array<double, 6>> rs274_positions(const std::string& can
   return out;
 }
 
+// Points on the surface of MESH at most MAX_EDGE_MM apart: its triangles split in four until no
+// edge is longer (the test's own sampling, apart from the library's).
+inline std::vector<core::Vec3> surface_points(const io::RawMesh& mesh, double max_edge_mm) {
+  std::vector<core::Vec3> out;
+  std::vector<std::array<core::Vec3, 3>> todo;
+  for (const auto& t : mesh.triangles) todo.push_back({mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]});
+  while (!todo.empty()) {
+    const auto [a, b, c] = todo.back();
+    todo.pop_back();
+    if (std::max({core::norm(b - a), core::norm(c - b), core::norm(a - c)}) <= max_edge_mm) {
+      out.push_back(a), out.push_back(b), out.push_back(c), out.push_back((a + b + c) / 3.0);
+      continue;
+    }
+    const core::Vec3 ab = (a + b) * 0.5, bc = (b + c) * 0.5, ca = (c + a) * 0.5;
+    todo.push_back({a, ab, ca}), todo.push_back({ab, b, bc}), todo.push_back({ca, bc, c}), todo.push_back({ab, bc, ca});
+  }
+  return out;
+}
+
+// MESH (the part's frame) placed as plan.json's placement says: rows · p + translation.
+inline io::RawMesh placed(io::RawMesh mesh, const nlohmann::json& plan) {
+  const auto& rows = plan["placement_rotation"];
+  const auto& t = plan["placement_mm"];
+  for (core::Vec3& p : mesh.points) {
+    const core::Vec3 q = p;
+    for (int i = 0; i < 3; ++i) {
+      p[i] = rows[i][0].get<double>() * q.x + rows[i][1].get<double>() * q.y + rows[i][2].get<double>() * q.z + t[i].get<double>();
+    }
+  }
+  return mesh;
+}
+
 // The program in DIR read back (support/readback.h) on the default machine and process, with the
 // plate report.json states; checks what every plan must hold and returns the reading.
 // ALLOW_COLLISIONS: a plan written with --allow-collisions, whose collisions are listed.
-inline ReadBack check_readback(const std::filesystem::path& dir, const std::string& name, bool allow_collisions = false) {
+// PREBUILT: a part already on the table, in the table frame (placed(): a --substrate mesh placed as
+// plan.json says): the deposit may rest on it and the head must keep out of it.
+inline ReadBack check_readback(const std::filesystem::path& dir, const std::string& name, bool allow_collisions = false,
+                               const io::RawMesh* prebuilt = nullptr) {
   auto machine = machine::parse_machine(machine::default_machine_json(), "default");
   auto process = process::parse_process(process::default_process_json(), "default");
   EXPECT_TRUE(machine.ok() && process.ok());
@@ -83,7 +118,15 @@ inline ReadBack check_readback(const std::filesystem::path& dir, const std::stri
   const double spacing = p.bead_width_mm / 4.0;
   const double step = std::max(p.max_step_bead_share * p.bead_width_mm, p.layer_max_mm * std::tan(p.self_supporting_deg * M_PI / 180.0));
   const double reach = std::hypot(std::max(p.layer_max_mm, 0.5 * (p.layer_max_mm + p.bead_width_mm)), std::max(0.5 * p.bead_width_mm, step)) + spacing;
-  const ReadBack rb = read_back(machine.value(), p, plate, slurp(dir / (name + ".ngc")), reach, spacing);
+  std::vector<core::Vec3> ground, solid;
+  if (prebuilt != nullptr) {
+    ground = surface_points(*prebuilt, 0.5 * reach);
+    solid = surface_points(*prebuilt, 2.0 * p.bead_width_mm);
+  }
+  const ReadBack rb = read_back(machine.value(), p, plate, slurp(dir / (name + ".ngc")), reach, spacing, false, ground, solid);
+  if (!allow_collisions) {
+    EXPECT_EQ(rb.head_in_prebuilt, 0u) << name << ": " << rb.first_problem;
+  }
   EXPECT_GT(rb.deposit_samples, 0u) << name;
   EXPECT_EQ(rb.head_below, 0u) << name << ": " << rb.worst_head_mm << " mm; " << rb.first_problem;
   EXPECT_LE(rb.slow_s, 0.01 * rb.on_s) << name;

@@ -32,6 +32,7 @@ struct ReadBack {
   std::vector<int> regions_starting_in_air;
   double on_s = 0.0, slow_s = 0.0;  // process-on feed time, and of it with the tip below half the deposit feed
   std::size_t head_in_deposit = 0;  // samples with earlier deposit in the head (only when asked: brute force)
+  std::size_t head_in_prebuilt = 0; // samples with the prebuilt part in the head (when given)
   std::string first_problem;
 };
 
@@ -44,12 +45,17 @@ struct ReadBack {
 //   or when a deposit sample of an earlier layer ("(layer N" comments) lies within REACH_MM.
 // - stall: a block with the process on whose tip path over its duration (F as LinuxCNC reads it
 //   in G94: XYZ mm/min, else rotary deg/min) is below half the deposit feed.
+// - a prebuilt part (PREBUILT: points on its surface, at most half of REACH_MM apart) grounds the
+//   deposit as earlier layers do; and the head must hold none of HEAD_PREBUILT (points on its surface,
+//   any spacing: the test's resolution), by the head rule below with no tip zone left out beyond
+//   1.5 beads, checked every 3 beads of tip travel and where each block ends.
 // - with HEAD_VS_DEPOSIT (small programs only: every sample against every earlier deposit sample),
 //   a sample's head holds earlier deposit when a deposit sample farther than 1.5 beads from the tip
 //   lies within half a bead of the cone's or the cylinder's side or end (each solid grown by half a
 //   bead along its own height and radius).
 inline ReadBack read_back(const machine::MachineConfig& m, const process::ProcessConfig& proc, const Plate& plate, const std::string& gcode,
-                          double reach_mm, double spacing_mm, bool head_vs_deposit = false) {
+                          double reach_mm, double spacing_mm, bool head_vs_deposit = false, const std::vector<core::Vec3>& prebuilt = {},
+                          const std::vector<core::Vec3>& head_prebuilt = {}) {
   ReadBack rb;
   const double kPi = 3.14159265358979323846;
   const double z1 = m.nozzle.cone_height_mm, R = m.nozzle.cylinder_radius_mm, H = m.nozzle.cylinder_height_mm;
@@ -77,6 +83,22 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
         }
     return false;
   };
+  for (const core::Vec3& p : prebuilt) earlier[cell(p)].push_back(p);
+  // A head sample holds Q when Q, farther than 1.5 beads from the tip, lies within half a bead of
+  // the cone's or the cylinder's side or end.
+  const double grow = 0.5 * proc.bead_width_mm, ignore = 1.5 * proc.bead_width_mm;
+  const double cos_th = std::cos(m.nozzle.tip_half_angle_deg * kPi / 180.0), sin_th = std::sin(m.nozzle.tip_half_angle_deg * kPi / 180.0);
+  auto in_head = [&](core::Vec3 t, core::Vec3 a, core::Vec3 q) {
+    const core::Vec3 d = q - t;
+    const double h = core::dot(d, a);
+    if (h < -grow || h > z1 + H + grow || core::norm(d) <= ignore) return false;
+    const double r = core::norm(d - a * h);
+    const bool in_cone = h <= z1 + grow && r * cos_th - h * sin_th <= grow;
+    const bool in_cylinder = h >= z1 - grow && h <= z1 + H + grow && r <= R + grow;
+    return in_cone || in_cylinder;
+  };
+  double since_prebuilt_check = INFINITY;
+  core::Vec3 last_checked;
   std::istringstream in(gcode);
   std::string line;
   std::array<double, 6> pos{}, prev{};
@@ -136,17 +158,22 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
         if (rb.first_problem.empty()) rb.first_problem = "head below the plate or table: " + line;
       }
       if (head_vs_deposit) {
-        const double grow = 0.5 * proc.bead_width_mm, ignore = 1.5 * proc.bead_width_mm;
-        const double th = m.nozzle.tip_half_angle_deg * kPi / 180.0;
         for (const core::Vec3& q : all_deposit) {
-          const core::Vec3 d = q - t;
-          if (core::norm(d) <= ignore) continue;
-          const double h = core::dot(d, a), r = core::norm(d - a * h);
-          const bool in_cone = h >= -grow && h <= z1 + grow && r * std::cos(th) - h * std::sin(th) <= grow;
-          const bool in_cylinder = h >= z1 - grow && h <= z1 + H + grow && r <= R + grow;
-          if (in_cone || in_cylinder) {
+          if (in_head(t, a, q)) {
             ++rb.head_in_deposit;
             if (rb.first_problem.empty()) rb.first_problem = "head in earlier deposit: " + line;
+            break;
+          }
+        }
+      }
+      since_prebuilt_check += core::norm(t - last_checked);
+      last_checked = t;
+      if (!head_prebuilt.empty() && (since_prebuilt_check >= 3.0 * proc.bead_width_mm || k == n)) {
+        since_prebuilt_check = 0.0;
+        for (const core::Vec3& q : head_prebuilt) {
+          if (in_head(t, a, q)) {
+            ++rb.head_in_prebuilt;
+            if (rb.first_problem.empty()) rb.first_problem = "head in the prebuilt part: " + line;
             break;
           }
         }

@@ -26,6 +26,9 @@ export function regionColor(index) {
   return PALETTE[((index % PALETTE.length) + PALETTE.length) % PALETTE.length];
 }
 
+// A prebuilt part (--substrate, --prebuilt): grey, apart from the regions' palette.
+export const PREBUILT_COLOR = '#8a8f98';
+
 // Maps region ids to palette entries by their position in the regions array.
 export function regionColorMap(regions) {
   const map = new Map();

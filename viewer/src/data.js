@@ -90,6 +90,8 @@ function decodeRegion(r, k) {
     // Its layer strategy and why (plans before tilted layers have none).
     layers: r.layers && typeof r.layers.strategy === 'string' ? r.layers.strategy : null,
     layersWhy: r.layers && typeof r.layers.why === 'string' ? r.layers.why : '',
+    // Already on the table (--substrate, --prebuilt): drawn grey, not deposited.
+    prebuilt: r.prebuilt === true,
     positions,
     indices,
   };

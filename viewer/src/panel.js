@@ -1,6 +1,6 @@
 // HTML overlay: title, layer slider and layer facts, toggles, region legend, collisions, metrics.
 import { fmtNum, fmtRange, fmtValue, fmtVec } from './format.js';
-import { COLORS } from './colors.js';
+import { COLORS, PREBUILT_COLOR } from './colors.js';
 
 function el(tag, props = {}, ...children) {
   const e = document.createElement(tag);
@@ -100,12 +100,12 @@ export function buildPanel(root, data, colorOf, extra) {
     for (const r of regions) {
       const sf = r.supportFree === true ? 'yes' : r.supportFree === false ? 'no' : '–';
       table.append(el('tr', { title: r.parent !== null ? `parent region ${r.parent}` : 'root region' },
-        el('td', {}, el('span', { class: 'px-swatch', style: `background:${colorOf(r.id)}` })),
+        el('td', {}, el('span', { class: 'px-swatch', style: `background:${r.prebuilt ? PREBUILT_COLOR : colorOf(r.id)}` })),
         el('td', { text: String(r.id) }),
         el('td', { text: fmtVec(r.buildDirection, 2) }),
         el('td', { text: Number.isNaN(r.volume) ? '–' : `${fmtNum(r.volume)} mm³` }),
         el('td', { text: sf, class: r.supportFree === false ? 'px-bad' : '' }),
-        el('td', { text: r.layers ?? '–', title: r.layersWhy })));
+        el('td', r.prebuilt ? { text: 'prebuilt', title: 'already on the table: not deposited' } : { text: r.layers ?? '–', title: r.layersWhy })));
     }
     left.append(table);
   }

@@ -9,6 +9,10 @@
 // substrate whenever its bounding disc overlaps the plate's rectangle, else against the table.
 #pragma once
 
+#include <array>
+#include <cstdint>
+#include <vector>
+
 #include "polyaxis/core/vec3.h"
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
@@ -23,12 +27,30 @@ struct SubstratePlate {
   double thickness_mm = 10.0;  // the table's top is top_z_mm − thickness_mm
 };
 
+// A part already on the table (`plan --substrate`, `--prebuilt`): the deposit is laid onto it and
+// the head keeps clear of it. Its surface is kept as points at most spacing_mm apart with their
+// outward normals (table frame): verify_build and DepositCheck treat them as material laid before
+// the whole program (the head against balls set half their radius inside the surface, so the
+// check is conservative by half a ball), and a bead rests on it as on earlier deposit.
+// Surface points of a prebuilt body at most this share of the bead apart: every surface point is
+// within 0.4 / √3 = 0.23 bead of one, and a ball of the deposit's radius (0.56 bead) set half its
+// radius inside the surface covers 0.48 bead of it around its point.
+inline constexpr double kPrebuiltSpacingBeads = 0.4;
+
+struct PrebuiltBody {
+  std::vector<Vec3> surface_mm;
+  std::vector<Vec3> normals;
+  double spacing_mm = 0.0;
+  bool empty() const { return surface_mm.empty(); }
+};
+
 struct BuildModel {
   NozzleModel nozzle;
   std::vector<HeadBox> head_boxes;
   double table_radius_mm = 250.0;
   Vec3 table_centre_mm;  // where the C axis crosses the table (x, y of the rotation point)
   SubstratePlate substrate;
+  PrebuiltBody prebuilt;
 
   double table_top_z_mm() const { return substrate.top_z_mm - substrate.thickness_mm; }
 };
@@ -38,6 +60,14 @@ struct BuildModel {
 // footprint grown by its margin.
 BuildModel make_build_model(const MachineConfig& machine, const process::ProcessConfig& process, double x0_mm, double y0_mm, double x1_mm,
                             double y1_mm);
+
+// The surface of the closed mesh (VERTICES, TRIANGLES counter-clockwise from outside, table
+// frame) sampled at most SPACING_MM apart: the corners of its triangles, each split at its longest
+// edge's middle until no edge is longer than that, each with its face's outward normal (a point
+// of the surface is within SPACING_MM / √3 of a sample). Appended to BODY.
+// Cost: linear in the surface area / spacing² plus the edges' length / spacing.
+void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                  double spacing_mm);
 
 // The head's clearance with its tip at TIP and its axis (tip → up the nozzle, any length > 0)
 // along AXIS, both in the table frame: the least height of any head point above the surface under

@@ -46,4 +46,9 @@ core::Result<CutOff> cut_off(const Mesh& mesh, core::Vec3 point, core::Vec3 norm
 // edge or a point only). Cost: O(F log F) per piece.
 core::Result<Mesh> unite(const std::vector<Mesh>& pieces);
 
+// A less B (closed, outward, non-self-intersecting): the solid of A outside B, closed; empty when
+// B holds all of A, A itself when they do not meet. Error kInfeasible when CGAL cannot (a result
+// that would not be a manifold, such as solids meeting along an edge only). Cost: O(F log F).
+core::Result<Mesh> difference(const Mesh& a, const Mesh& b);
+
 }  // namespace polyaxis::mesh

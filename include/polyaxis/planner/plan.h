@@ -78,7 +78,16 @@ struct PlanRegion {
   slicing::LayerStrategy layers = slicing::LayerStrategy::kPlanar;
   std::string layers_rule = kLayersAsked;
   std::string layers_why;
+  // Already on the table (`--substrate`, `--prebuilt`): not sliced or deposited; the build model
+  // holds it (machine::PrebuiltBody), the support check counts it as built before every region,
+  // and the regions resting on it start on its surface.
+  bool prebuilt = false;
 };
+
+// The rule of a region that is a part already on the table (--substrate).
+inline constexpr const char* kRegionSubstrate = "substrate";
+// The rule of a deposited region laid onto a substrate (--substrate): the part less the substrate.
+inline constexpr const char* kRegionOnSubstrate = "on the substrate";
 
 struct LayerReport {
   std::uint32_t index = 0;
@@ -245,6 +254,8 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
 // makes toolpaths with the process's bead, checks support, and lists the program points.
 // REGIONS (parents before children; empty: the whole part along options.direction) are built one
 // after the other, each sliced along its own direction; layers are numbered across regions.
+// Prebuilt regions (PlanRegion::prebuilt) come first, their ancestors prebuilt too: the first of
+// them stands on the plate and the others are placed with it; none is sliced.
 // Before slicing: a region reaching below the plate (kInfeasible) or built along a direction the
 // tilt axis cannot reach (kMachineLimit) is refused, naming the region, the direction and the
 // limit. Tool axes are kept inside the reach and the head clear of the plate and the table

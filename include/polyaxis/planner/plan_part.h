@@ -37,6 +37,14 @@ struct PlanPartOptions {
   // A program that, read back, still strikes the plate, the table or earlier deposit is an error
   // (kInfeasible) unless this is set (`--allow-collisions`): then it is kept, with a warning.
   bool allow_collisions = false;
+  // A part already on the table (`--substrate MESH`, in the part's frame): the part less it is
+  // deposited onto it along `direction` (one direction: the strategy must not be kDecompose), and
+  // it stands on the plate. The head keeps clear of it (verify.h).
+  std::optional<mesh::Mesh> substrate;
+  // Regions of the decomposition already made (`--prebuilt ID`): the root, or regions whose parent
+  // is prebuilt; they stand on the table and the rest is deposited onto them (the strategy must
+  // not be kSingle).
+  std::vector<std::uint32_t> prebuilt;
 };
 
 struct PlanPartResult {

@@ -29,6 +29,10 @@
 //   axis (conservative). A BVH over the deposit samples, each stamped with its place in the
 //   deposit order, answers every check that the exact shortcut of detail::BelowTheTip (all the
 //   deposit so far low enough under the tip's plane) does not clear.
+// - A prebuilt part (machine::PrebuiltBody: --substrate, --prebuilt) is material laid before the
+//   program, as balls along its surface (build_model.h) left out only within kIgnorePrebuiltBeads
+//   of the tip, and its surface points are ground that a deposit sample rests on by the same rule
+//   as earlier deposit.
 // - A region starts in mid-air when the first deposit sample of its program is not grounded.
 // - Stall: process-on feed time during which the tip moves slower than kStallShare of the
 //   process's deposit feed. Dwells after switching on (the process file's dwell_on_s) are counted
@@ -57,12 +61,16 @@ inline constexpr double kStallShare = 0.5;
 inline constexpr double kClearanceSlackMm = 1e-3;
 // Material within this many bead widths of the tip is not checked against the head (see above).
 inline constexpr double kIgnoreBeads = 3.0;
+// A prebuilt part is left out only this near the tip: the bead rests on it, but no bead is laid
+// into it.
+inline constexpr double kIgnorePrebuiltBeads = 1.5;
 // At most this many collisions are listed; all are counted.
 inline constexpr std::size_t kMaxListedCollisions = 100;
 inline constexpr std::size_t kMaxCollisionPlaces = 20000;
 
-// The head striking something: the plate or the table (body "plate or table"), or material laid
-// earlier ("deposit of layer L region R").
+// The head striking something: the plate or the table (body "plate or table"), a prebuilt part
+// (kPrebuiltBody), or material laid earlier ("deposit of layer L region R").
+inline constexpr const char* kPrebuiltBody = "prebuilt part";
 struct Collision {
   std::uint64_t line = 0;  // G-code line of the move
   std::int64_t layer = -1, region = -1;
@@ -85,7 +93,10 @@ struct BuildCheck {
   double process_on_s = 0.0;               // feed time of process-on moves
   double stalled_s = 0.0;                  // of which with the tip below kStallShare of the feed
   double process_on_dwell_s = 0.0;         // dwells with the process on
-  std::uint64_t material_collisions = 0;   // samples where the head strikes earlier deposit
+  std::uint64_t material_collisions = 0;   // samples where the head strikes earlier deposit or a prebuilt part
+  std::uint64_t prebuilt_collisions = 0;   // of which the prebuilt part (the first ball found, see below)
+  // The deepest strike; once kMaxListedCollisions are found, later samples are counted with the
+  // first ball found in reach, so past them this is a lower bound.
   double worst_material_depth_mm = 0.0;
   std::uint64_t material_checks = 0;       // samples checked against the material
   std::uint64_t collisions = 0;            // head_collisions + material_collisions

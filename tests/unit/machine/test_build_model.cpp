@@ -6,6 +6,7 @@
 #include "polyaxis/machine/build_model.h"
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
+#include "support/meshes.h"
 
 namespace polyaxis::machine {
 namespace {
@@ -95,6 +96,58 @@ TEST(BuildModel, MachineFileKeys) {
                          "p");
   ASSERT_FALSE(p.ok());
   EXPECT_NE(p.error().message.find("max_step_bead_share"), std::string::npos);
+}
+
+// Every point of a surface is within spacing / √3 of a sample, each sample lies on the surface with
+// its face's outward normal, and slivers, huge triangles and bad input neither hang nor flood.
+TEST(PrebuiltBody, SamplesCoverTheSurfaceAtTheSpacing) {
+  struct Case {
+    std::vector<Vec3> v;
+    std::vector<std::array<std::uint32_t, 3>> t;
+  };
+  auto raw = [](const io::RawMesh& m) { return Case{m.points, m.triangles}; };
+  const std::vector<Case> cases = {
+      raw(test::box({0, 0, 0}, {7, 3, 11})),
+      raw(test::spherical_cap(20, 8, 30, 6)),
+      {{{0, 0, 0}, {40, 0, 0}, {40, 0.01, 0}}, {{0, 1, 2}}},  // a sliver
+  };
+  for (const double spacing : {0.3, 1.0}) {
+    for (const Case& c : cases) {
+      PrebuiltBody body;
+      add_prebuilt(body, c.v, c.t, spacing);
+      ASSERT_EQ(body.surface_mm.size(), body.normals.size());
+      // Linear in the area / spacing² and the edges' length / spacing.
+      double area = 0.0, edges = 0.0;
+      for (const auto& tri : c.t) {
+        area += 0.5 * core::norm(core::cross(c.v[tri[1]] - c.v[tri[0]], c.v[tri[2]] - c.v[tri[0]]));
+        for (int k = 0; k < 3; ++k) edges += core::norm(c.v[tri[(k + 1) % 3]] - c.v[tri[k]]);
+      }
+      EXPECT_LT(static_cast<double>(body.surface_mm.size()), 8.0 * area / (spacing * spacing) + 20.0 * edges / spacing + 3.0 * static_cast<double>(c.t.size()));
+      std::uint32_t seed = 7;
+      auto rnd = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
+      for (const auto& tri : c.t) {
+        const Vec3 a = c.v[tri[0]], b = c.v[tri[1]], d = c.v[tri[2]];
+        const Vec3 n = core::normalized(core::cross(b - a, d - a));
+        for (int k = 0; k < 20; ++k) {
+          double u = rnd(), w = rnd();
+          if (u + w > 1.0) u = 1.0 - u, w = 1.0 - w;
+          const Vec3 p = a + (b - a) * u + (d - a) * w;
+          double nearest = INFINITY;
+          for (const Vec3& q : body.surface_mm) nearest = std::min(nearest, core::norm(q - p));
+          EXPECT_LE(nearest, spacing / std::sqrt(3.0) + 1e-9);
+        }
+        for (std::size_t i = 0; i < body.surface_mm.size(); ++i) {
+          if (core::dot(body.normals[i], n) < 1.0 - 1e-9) continue;  // another face's sample
+          EXPECT_NEAR(core::dot(body.surface_mm[i] - a, n), 0.0, 1e-9);
+        }
+      }
+    }
+  }
+  PrebuiltBody none;
+  add_prebuilt(none, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.0);
+  add_prebuilt(none, {{0, 0, 0}, {INFINITY, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.5);
+  add_prebuilt(none, {{0, 0, 0}, {NAN, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.5);
+  EXPECT_TRUE(none.empty());
 }
 
 }  // namespace

@@ -109,5 +109,28 @@ TEST(PlaneCut, CutOffKeepsACavityWithThePieceAroundIt) {
   EXPECT_NEAR(signed_volume(cut.value().parent), 10.0 * 20.0 * 20.0, 1e-9);
 }
 
+TEST(Difference, OverlapDisjointAndContained) {
+  using test::box;
+  // A block less a slab across its lower part: the upper part, closed.
+  const auto upper = difference(solid(box({0, 0, 0}, {10, 20, 30})), solid(box({-5, -5, -1}, {15, 25, 12})));
+  ASSERT_TRUE(upper.ok()) << upper.error().message;
+  expect_closed(upper.value());
+  EXPECT_NEAR(signed_volume(upper.value()), 10.0 * 20.0 * 18.0, 1e-6);
+  // A boss sunk into a dome: what stands out of it, less than the boss.
+  const Mesh boss = solid(test::cylinder({0, 0, 10}, {0, 0, 1}, 5, 15, 40));
+  const auto out = difference(boss, solid(test::spherical_cap(40, 20, 64, 16)));
+  ASSERT_TRUE(out.ok()) << out.error().message;
+  expect_closed(out.value());
+  EXPECT_GT(signed_volume(out.value()), 0.3 * signed_volume(boss));
+  EXPECT_LT(signed_volume(out.value()), 0.7 * signed_volume(boss));
+  // Apart: A itself; inside B: nothing.
+  const auto apart = difference(solid(box({0, 0, 0}, {4, 4, 4})), solid(box({10, 0, 0}, {14, 4, 4})));
+  ASSERT_TRUE(apart.ok());
+  EXPECT_NEAR(signed_volume(apart.value()), 64.0, 1e-9);
+  const auto inside = difference(solid(box({1, 1, 1}, {3, 3, 3})), solid(box({0, 0, 0}, {4, 4, 4})));
+  ASSERT_TRUE(inside.ok());
+  EXPECT_TRUE(inside.value().triangles.empty());
+}
+
 }  // namespace
 }  // namespace polyaxis::mesh

@@ -1,0 +1,179 @@
+// Building onto a prebuilt part (issue 13, item 3): `plan --substrate MESH` and `plan --prebuilt ID`,
+// judged from the G-code alone. The program is read back through forward kinematics with the
+// substrate placed as plan.json says (support/plan_checks.h): every bead rests on the substrate or
+// on earlier deposit, the head keeps out of the substrate, and rs274 accepts the program. Without
+// the substrate in that reading the first beads hang in the air: the plan really is laid onto it.
+// A head that cannot keep clear of the substrate is refused, naming it.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "support/cli.h"
+#include "support/meshes.h"
+#include "support/plan_checks.h"
+
+namespace polyaxis::test {
+namespace {
+
+using core::Vec3;
+
+struct OnSubstrate {
+  std::string name;
+  RawMesh part, substrate;
+  std::string extra;  // more options
+};
+
+// The lowest deposit point of the program read back, table frame.
+double lowest_deposit_z(const std::filesystem::path& dir, const std::string& name) {
+  auto m = machine::parse_machine(machine::default_machine_json(), "default");
+  auto p = process::parse_process(process::default_process_json(), "default");
+  EXPECT_TRUE(m.ok() && p.ok());
+  std::istringstream in(slurp(dir / (name + ".ngc")));
+  std::string line;
+  std::array<double, 6> pos{};
+  bool on = false;
+  double low = INFINITY;
+  const std::string letters = "XYZABC";
+  while (std::getline(in, line)) {
+    if (line == p.value().process_on) on = true;
+    if (line == p.value().process_off) on = false;
+    if (line.rfind("G1 ", 0) != 0) continue;
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (const auto at = line.find(letters[i]); at != std::string::npos) pos[i] = std::stod(line.substr(at + 1));
+    }
+    if (on) low = std::min(low, machine::forward(m.value(), {pos[0], pos[1], pos[2], pos[3], pos[5]}).tip_part_mm.z);
+  }
+  return low;
+}
+
+TEST(PlanSubstrate, DepositLaidOntoASubstrateReadsBackGroundedAndClearOfIt) {
+  const std::vector<OnSubstrate> cases = {
+      {"boss_on_block", cylinder({0, 0, 5}, {0, 0, 1}, 8, 20, 48), box({-20, -20, 0}, {20, 20, 10}), ""},
+      {"thin_boss_on_slab", cylinder({3, -4, 2}, {0, 0, 1}, 4, 9, 24), box({-25, -15, 0}, {25, 15, 4}), ""},
+      // Hybrid repair: the whole block given, the worn stump as the substrate.
+      {"repair_block", box({-15, -15, 0}, {15, 15, 30}), box({-15, -15, 0}, {15, 15, 18}), ""},
+      {"repair_low_stump", box({-10, -12, 0}, {10, 12, 16}), box({-10, -12, 0}, {10, 12, 5}), ""},
+      // Features growing from a dome's surface, one of them leaning (the torch tilts over its overhang).
+      {"bosses_on_dome", join(cylinder({0, 0, 15}, {0, 0, 1}, 6, 15, 40), cylinder({18, 0, 8}, {0.3, 0, 1}, 5, 14, 40)),
+       spherical_cap(40, 20, 96, 24), ""},
+      {"boss_on_coarse_dome", cylinder({-10, 5, 10}, {0, 0, 1}, 7, 14, 32), spherical_cap(35, 15, 40, 8), ""},
+  };
+  for (const OnSubstrate& c : cases) {
+    SCOPED_TRACE(c.name);
+    TempDir dir;
+    const auto part = dir / (c.name + ".stl"), substrate = dir / "substrate.stl";
+    write_file(part, binary_stl(c.part));
+    write_file(substrate, binary_stl(c.substrate));
+    const auto r = run_cli("plan '" + part.string() + "' --substrate '" + substrate.string() + "' --no-html -o '" + dir.path().string() + "'" +
+                           c.extra);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto plan = read_json(dir / "plan.json");
+    ASSERT_EQ(plan["regions"].size(), 2u);
+    EXPECT_TRUE(plan["regions"][0]["prebuilt"].get<bool>());
+    EXPECT_FALSE(plan["regions"][1]["prebuilt"].get<bool>());
+    for (const auto& l : plan["layers"]) EXPECT_EQ(l["region"].get<int>(), 1);  // the substrate is never deposited
+    const RawMesh on_table = placed(c.substrate, plan);
+    const ReadBack rb = check_readback(dir.path(), c.name, false, &on_table);
+    EXPECT_EQ(rb.ungrounded, 0u) << rb.first_problem;
+    expect_rs274_reads(dir.path(), dir / (c.name + ".ngc"));
+    // Read back without the substrate, the first beads hang in the air above the plate.
+    auto machine = machine::parse_machine(machine::default_machine_json(), "default");
+    auto process = process::parse_process(process::default_process_json(), "default");
+    const auto report = read_json(dir / "report.json");
+    const auto& sub = report["substrate"];
+    const Plate plate{sub["x_mm"][0].get<double>(), sub["x_mm"][1].get<double>(), sub["y_mm"][0].get<double>(),
+                      sub["y_mm"][1].get<double>(), sub["top_z_mm"].get<double>(), sub["top_z_mm"].get<double>() - 10.0};
+    const ReadBack bare = read_back(machine.value(), process.value(), plate, slurp(dir / (c.name + ".ngc")), 1.2, 0.225);
+    EXPECT_FALSE(bare.regions_starting_in_air.empty());
+    EXPECT_GT(lowest_deposit_z(dir.path(), c.name), 2.0);  // on the substrate, not on the plate
+  }
+}
+
+TEST(PlanSubstrate, AHeadThatWouldStrikeTheSubstrateIsRefusedNamingIt) {
+  // A boss on the plate beside a tall prebuilt block: the head's 25 mm cylinder reaches over the
+  // block wherever the boss is laid, and no tilt turns it away.
+  TempDir dir;
+  const auto part = dir / "boss.stl", substrate = dir / "tower.stl";
+  const RawMesh tower = box({0, -20, 0}, {20, 20, 60});
+  write_file(part, binary_stl(cylinder({-6, 0, 0}, {0, 0, 1}, 4, 10, 32)));
+  write_file(substrate, binary_stl(tower));
+  const std::string args = "plan '" + part.string() + "' --substrate '" + substrate.string() + "' --no-html -o '";
+  const auto refused = run_cli(args + (dir / "no").string() + "'");
+  EXPECT_EQ(refused.exit_code, 4) << refused.err;
+  EXPECT_NE(refused.err.find("prebuilt part"), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "no" / "plan.json"));
+  const auto kept = run_cli(args + dir.path().string() + "' --allow-collisions");
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  const auto report = read_json(dir / "report.json");
+  EXPECT_GT(report["build_check"]["prebuilt_collisions"].get<int>(), 0);
+  bool named = false;
+  for (const auto& c : report["collision_list"]) named = named || c["body"].get<std::string>() == "prebuilt part";
+  EXPECT_TRUE(named);
+  // The test's own reading agrees: the head holds the tower.
+  const RawMesh on_table = placed(tower, read_json(dir / "plan.json"));
+  const ReadBack rb = check_readback(dir.path(), "boss", true, &on_table);
+  EXPECT_GT(rb.head_in_prebuilt, 0u);
+}
+
+TEST(PlanSubstrate, BadSubstrateOptionsGetUsageErrors) {
+  TempDir dir;
+  const auto part = dir / "p.stl", substrate = dir / "s.stl";
+  write_file(part, binary_stl(box({-5, -5, 0}, {5, 5, 20})));
+  write_file(substrate, binary_stl(box({-5, -5, 0}, {5, 5, 8})));
+  const std::string base = "plan '" + part.string() + "' --no-html -o '" + dir.path().string() + "' ";
+  EXPECT_EQ(run_cli(base + "--substrate '" + substrate.string() + "' --strategy decompose").exit_code, 2);
+  EXPECT_EQ(run_cli(base + "--substrate '" + substrate.string() + "' --prebuilt 0").exit_code, 2);
+  EXPECT_EQ(run_cli(base + "--prebuilt 0 --strategy single").exit_code, 2);
+  EXPECT_EQ(run_cli(base + "--substrate '" + (dir / "missing.stl").string() + "'").exit_code, 3);
+  // A substrate holding the whole part leaves nothing to build.
+  const auto all = run_cli("plan '" + substrate.string() + "' --substrate '" + part.string() + "' --no-html -o '" + dir.path().string() + "'");
+  EXPECT_EQ(all.exit_code, 4) << all.err;
+  EXPECT_NE(all.err.find("nothing to build"), std::string::npos) << all.err;
+}
+
+TEST(PlanSubstrate, PrebuiltRootOfTheDecompositionIsNotDepositedAndGroundsItsChildren) {
+  // The reference L-block and an L of other proportions: the root column is prebuilt, the arm is
+  // laid onto it along its own direction.
+  struct Case {
+    std::string name;
+    RawMesh part;
+  };
+  const std::vector<Case> cases = {
+      {"l_other", prism_xz({{0, 0}, {18, 0}, {18, 30}, {46, 30}, {46, 44}, {0, 44}}, 14)},
+  };
+  std::vector<std::pair<std::string, std::filesystem::path>> parts;
+  TempDir dir;
+  for (const Case& c : cases) {
+    write_file(dir / (c.name + ".stl"), binary_stl(c.part));
+    parts.push_back({c.name, dir / (c.name + ".stl")});
+  }
+  parts.push_back({"l_block", std::filesystem::path(POLYAXIS_PARTS_DIR) / "l_block.stl"});
+  for (const auto& [name, path] : parts) {
+    SCOPED_TRACE(name);
+    const auto out = dir / ("out_" + name);
+    const auto r = run_cli("plan '" + path.string() + "' --prebuilt 0 --no-html -o '" + out.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto plan = read_json(out / "plan.json");
+    ASSERT_GE(plan["regions"].size(), 2u);
+    for (const auto& region : plan["regions"]) EXPECT_EQ(region["prebuilt"].get<bool>(), region["id"].get<int>() == 0);
+    for (const auto& l : plan["layers"]) EXPECT_NE(l["region"].get<int>(), 0);
+    // The root where plan.json places it (table frame) is the part the test reads the program against.
+    RawMesh root;
+    const auto& v = plan["regions"][0]["vertices"];
+    for (std::size_t i = 0; i + 2 < v.size(); i += 3) root.points.push_back({v[i].get<double>(), v[i + 1].get<double>(), v[i + 2].get<double>()});
+    const auto& t = plan["regions"][0]["triangles"];
+    for (std::size_t i = 0; i + 2 < t.size(); i += 3) root.triangles.push_back({t[i].get<std::uint32_t>(), t[i + 1].get<std::uint32_t>(), t[i + 2].get<std::uint32_t>()});
+    const ReadBack rb = check_readback(out, name, false, &root);
+    EXPECT_EQ(rb.ungrounded, 0u) << rb.first_problem;
+    expect_rs274_reads(out, out / (name + ".ngc"));
+  }
+  const auto bad = run_cli("plan '" + parts.back().second.string() + "' --prebuilt 7 --no-html -o '" + (dir / "bad").string() + "'");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("--prebuilt 7"), std::string::npos) << bad.err;
+  const auto child = run_cli("plan '" + parts.back().second.string() + "' --prebuilt 1 --no-html -o '" + (dir / "child").string() + "'");
+  EXPECT_EQ(child.exit_code, 2) << child.err;
+}
+
+}  // namespace
+}  // namespace polyaxis::test
