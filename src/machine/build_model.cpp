@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <set>
+#include <utility>
 #include <vector>
 
 namespace polyaxis::machine {
@@ -47,7 +47,7 @@ void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const s
                   double spacing_mm) {
   if (!(spacing_mm > 0.0) || !std::isfinite(spacing_mm)) return;  // no samples rather than no end
   body.spacing_mm = body.spacing_mm > 0.0 ? std::min(body.spacing_mm, spacing_mm) : spacing_mm;
-  std::set<std::array<double, 3>> seen;
+  std::vector<std::array<double, 3>> corners;  // of one triangle's pieces
   for (const auto& t : triangles) {
     const Vec3 a = vertices[t[0]], b = vertices[t[1]], c = vertices[t[2]];
     const Vec3 area = core::cross(b - a, c - a);
@@ -62,10 +62,7 @@ void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const s
       const double pq = core::norm(q - p), qr = core::norm(r - q), rp = core::norm(p - r);
       const double longest = std::max({pq, qr, rp});
       if (longest <= spacing_mm) {
-        for (const Vec3& x : {p, q, r}) {
-          // A corner shared by the pieces around it is kept once.
-          if (seen.insert({x.x, x.y, x.z}).second) body.surface_mm.push_back(x), body.normals.push_back(n);
-        }
+        for (const Vec3& x : {p, q, r}) corners.push_back({x.x, x.y, x.z});
         continue;
       }
       if (longest == pq) {
@@ -79,6 +76,12 @@ void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const s
         todo.push_back({p, q, m}), todo.push_back({m, q, r});
       }
     }
+    // A corner shared by the triangle's pieces around it is kept once (the triangle's edges and
+    // corners are sampled again by its neighbours: points the same spacing apart, a few more).
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    for (const auto& x : corners) body.surface_mm.push_back({x[0], x[1], x[2]}), body.normals.push_back(n);
+    corners.clear();
   }
 }
 

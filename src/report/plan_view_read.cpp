@@ -62,7 +62,7 @@ double get_finite(const Json& j) {
 
 // Surface samples of prebuilt regions a plan may ask for, at most (a fuzzed plan must not make a
 // reader run out of memory).
-constexpr double kMaxPrebuiltSamples = 2e7;
+constexpr double kMaxPrebuiltSamples = 4e6;  // area / spacing²: 200 MB of samples (a 300 × 300 mm plate needs 1.5e6)
 
 // The build model's prebuilt body from the regions marked prebuilt (plan.json keeps their meshes,
 // not the samples).

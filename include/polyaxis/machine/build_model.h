@@ -64,7 +64,9 @@ BuildModel make_build_model(const MachineConfig& machine, const process::Process
 // The surface of the closed mesh (VERTICES, TRIANGLES counter-clockwise from outside, table
 // frame) sampled at most SPACING_MM apart: the corners of its triangles, each split at its longest
 // edge's middle until no edge is longer than that, each with its face's outward normal (a point
-// of the surface is within SPACING_MM / √3 of a sample). Appended to BODY.
+// of the surface is within SPACING_MM / √3 of a sample; corners shared by faces are sampled by
+// each). Appended to BODY; nothing for a spacing that is not finite and positive, and faces with
+// non-finite corners are skipped.
 // Cost: linear in the surface area / spacing² plus the edges' length / spacing.
 void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
                   double spacing_mm);
