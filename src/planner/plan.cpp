@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <set>
 
+#include "polyaxis/geom2d/clip.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/planner/plan_part.h"
+#include "polyaxis/slicing/section.h"
 #include "clearance.h"
 #include "fidelity.h"
 #include "reach.h"
@@ -424,14 +427,47 @@ core::Result<slicing::SliceResult> region_layers(PlanRegion& region, const mesh:
   return planar;
 }
 
+// Where a prebuilt part rises within the process's least thickness under a layer's top, the layer
+// is trimmed: a bead there would be thinner than the process allows (and the tip would touch the
+// part); the next layer fills the pocket. Layers along the region's own direction (planar ones,
+// and a tilted slicing's first) are trimmed against the prebuilt regions of REGIONS.
+void trim_over_prebuilt(slicing::SliceResult& layers, const std::vector<PlanRegion>& regions, const PlanRegion& region, double min_mm) {
+  const Vec3 d = core::normalized(region.direction);
+  std::vector<std::unique_ptr<slicing::SectionContext>> contexts;
+  for (const PlanRegion& r : regions) {
+    if (r.prebuilt) contexts.push_back(std::make_unique<slicing::SectionContext>(r.mesh, d));
+  }
+  if (contexts.empty()) return;
+  std::vector<std::uint32_t> candidates;
+  slicing::SectionScratch scratch;
+  for (slicing::Layer& layer : layers.layers) {
+    if (core::dot(layer.frame.d, d) < 1.0 - 1e-12 || layer.polygons.empty()) continue;
+    const double h = layer.height_mm + layer.above_mm - min_mm;
+    std::vector<geom2d::Ring> under;
+    for (const auto& ctx : contexts) {
+      if (h < ctx->min_height() || h > ctx->max_height()) continue;
+      candidates.clear();
+      for (std::uint32_t f = 0; f < ctx->mesh().triangles.size(); ++f) {
+        if (ctx->face_min(f) <= h && ctx->face_max(f) >= h) candidates.push_back(f);
+      }
+      for (geom2d::Ring& ring : geom2d::rings_of(slicing::section(*ctx, h, layer.frame, candidates, scratch).polygons)) under.push_back(std::move(ring));
+    }
+    if (under.empty()) continue;
+    layer.polygons = geom2d::difference_rings(geom2d::rings_of(layer.polygons), under);
+    layer.area_mm2 = geom2d::area_mm2(layer.polygons);
+  }
+}
+
 // Slices REGION (placed) along its direction, makes its toolpaths with the torch guarded, and
-// appends its layers to PLAN, numbered after those there. TOPOLOGY: the whole part's, for an
-// undivided part (null otherwise).
-core::Status add_region(Plan& plan, PlanRegion& region, const mesh::EdgeTopology* topology, const machine::MachineConfig& machine,
-                        const process::ProcessConfig& process, const PlanOptions& options) {
+// appends its layers to PLAN, numbered after those there; REGIONS (placed): all of the plan's, for
+// its prebuilt ones (trim_over_prebuilt). TOPOLOGY: the whole part's, for an undivided part (null
+// otherwise).
+core::Status add_region(Plan& plan, PlanRegion& region, const std::vector<PlanRegion>& regions, const mesh::EdgeTopology* topology,
+                        const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanOptions& options) {
   auto t0 = Clock::now();
   auto layers = region_layers(region, topology, machine, process, options);
   if (!layers) return layers.error();
+  trim_over_prebuilt(layers.value(), regions, region, process.layer_min_mm);
   plan.times.slice_s += since(t0);
   t0 = Clock::now();
   toolpath::ToolpathOptions tp;
@@ -541,7 +577,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   for (PlanRegion& region : regions) {
     if (region.prebuilt) continue;
     // The whole part's topology is valid only for the unsplit part.
-    if (auto st = add_region(plan, region, given_regions.empty() ? &part.topology : nullptr, machine, process, options); !st) return st.error();
+    if (auto st = add_region(plan, region, regions, given_regions.empty() ? &part.topology : nullptr, machine, process, options); !st) return st.error();
   }
   plan.placed_regions = regions;
   if (plan.layers.layers.empty()) {

@@ -78,20 +78,23 @@ class BuiltBefore {
  public:
   BuiltBefore(const std::vector<PlanRegion>& regions) : regions_(regions) {}
 
-  // The material of the regions before REGION_INDEX (build order) on the plane of FRAME, in its (u, v).
-  std::vector<geom2d::Polygon> section(std::size_t region_index, const slicing::Frame& frame) {
+  // The material of the regions before REGION_INDEX (build order) on the plane of FRAME, in its (u, v);
+  // of prebuilt regions on the plane PREBUILT_DROP_MM lower.
+  std::vector<geom2d::Polygon> section(std::size_t region_index, const slicing::Frame& frame, double prebuilt_drop_mm) {
     if (region_index != region_) contexts_.clear(), region_ = region_index;  // layers come region by region
     std::vector<geom2d::Ring> rings;
     const double h = core::dot(frame.origin, frame.d);
     for (std::size_t q = 0; q < region_index; ++q) {
       auto& ctx = contexts_[q];
       if (!ctx) ctx = std::make_unique<slicing::SectionContext>(regions_[q].mesh, frame.d);
-      if (h < ctx->min_height() || h > ctx->max_height()) continue;
+      const double hq = regions_[q].prebuilt ? h - prebuilt_drop_mm : h;
+      if (hq < ctx->min_height() || hq > ctx->max_height()) continue;
       candidates_.clear();
       for (std::uint32_t f = 0; f < regions_[q].mesh.triangles.size(); ++f) {
-        if (ctx->face_min(f) <= h && ctx->face_max(f) >= h) candidates_.push_back(f);
+        if (ctx->face_min(f) <= hq && ctx->face_max(f) >= hq) candidates_.push_back(f);
       }
-      const slicing::SectionResult s = slicing::section(*ctx, h, frame, candidates_, scratch_);
+      // (u, v) do not change along d: the frame serves the lower plane too.
+      const slicing::SectionResult s = slicing::section(*ctx, hq, frame, candidates_, scratch_);
       for (geom2d::Ring& r : geom2d::rings_of(s.polygons)) rings.push_back(std::move(r));
     }
     return geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
@@ -172,11 +175,14 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
     std::vector<geom2d::Polygon> pieces;
     double area = first ? r.area_mm2 : unsupported_area(below, t, ls[k], lt, alpha, bead, max_step, pieces);
     if (area >= kUnsupportedNoiseMm2 && region_index > 0) {
-      // What the earlier regions hold one layer below this one.
+      // What the earlier regions hold one layer below this one; a prebuilt part holds up the layer
+      // wherever it comes within the least thickness under the layer's bottom (the planner trims
+      // the layers above it to that, plan.cpp trim_over_prebuilt, and the bead fills the pocket).
       slicing::Frame under = ls[k].frame;
       under.origin = under.origin - under.d * t;
+      const double prebuilt_drop = ls[k].below_mm + process.layer_min_mm - t;
       std::vector<geom2d::Ring> rings = geom2d::rings_of(below);
-      for (geom2d::Ring& ring : geom2d::rings_of(built.section(region_index, under))) rings.push_back(std::move(ring));
+      for (geom2d::Ring& ring : geom2d::rings_of(built.section(region_index, under, prebuilt_drop))) rings.push_back(std::move(ring));
       pieces.clear();
       area = unsupported_area(geom2d::union_rings(rings, geom2d::FillRule::kNonZero), t, ls[k], lt, alpha, bead, max_step, pieces);
     }

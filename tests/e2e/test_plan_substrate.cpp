@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "support/cli.h"
 #include "support/meshes.h"
@@ -45,6 +46,54 @@ double lowest_deposit_z(const std::filesystem::path& dir, const std::string& nam
     if (on) low = std::min(low, machine::forward(m.value(), {pos[0], pos[1], pos[2], pos[3], pos[5]}).tip_part_mm.z);
   }
   return low;
+}
+
+struct Tip {
+  int layer = -1;
+  Vec3 tip;
+};
+
+// The end points of the process-on feed blocks of the program in DIR, through forward kinematics on
+// the default machine, with their "(layer N" comment.
+std::vector<Tip> deposit_tips(const std::filesystem::path& dir, const std::string& name) {
+  auto m = machine::parse_machine(machine::default_machine_json(), "default");
+  auto p = process::parse_process(process::default_process_json(), "default");
+  EXPECT_TRUE(m.ok() && p.ok());
+  std::istringstream in(slurp(dir / (name + ".ngc")));
+  std::string line;
+  std::array<double, 6> pos{};
+  bool on = false;
+  int layer = -1;
+  std::vector<Tip> out;
+  const std::string letters = "XYZABC";
+  while (std::getline(in, line)) {
+    if (line.rfind("(layer ", 0) == 0) layer = std::stoi(line.substr(7));
+    if (line == p.value().process_on) on = true;
+    if (line == p.value().process_off) on = false;
+    if (line.rfind("G1 ", 0) != 0) continue;
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (const auto at = line.find(letters[i]); at != std::string::npos) pos[i] = std::stod(line.substr(at + 1));
+    }
+    if (on) out.push_back({layer, machine::forward(m.value(), {pos[0], pos[1], pos[2], pos[3], pos[5]}).tip_part_mm});
+  }
+  return out;
+}
+
+// The highest point of MESH's surface straight under P (−inf when none): the vertical line
+// through P against every triangle.
+double surface_under(const RawMesh& mesh, Vec3 p) {
+  double best = -INFINITY;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 a = mesh.points[t[0]], b = mesh.points[t[1]], c = mesh.points[t[2]];
+    const double d = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    if (std::abs(d) < 1e-12) continue;
+    const double u = ((p.x - a.x) * (c.y - a.y) - (c.x - a.x) * (p.y - a.y)) / d;
+    const double v = ((b.x - a.x) * (p.y - a.y) - (p.x - a.x) * (b.y - a.y)) / d;
+    if (u < 0.0 || v < 0.0 || u + v > 1.0) continue;
+    const double z = a.z + (b.z - a.z) * u + (c.z - a.z) * v;
+    if (z <= p.z) best = std::max(best, z);
+  }
+  return best;
 }
 
 TEST(PlanSubstrate, DepositLaidOntoASubstrateReadsBackGroundedAndClearOfIt) {
@@ -87,6 +136,22 @@ TEST(PlanSubstrate, DepositLaidOntoASubstrateReadsBackGroundedAndClearOfIt) {
     const ReadBack bare = read_back(machine.value(), process.value(), plate, slurp(dir / (c.name + ".ngc")), 1.2, 0.225);
     EXPECT_FALSE(bare.regions_starting_in_air.empty());
     EXPECT_GT(lowest_deposit_z(dir.path(), c.name), 2.0);  // on the substrate, not on the plate
+    // Over the substrate, every bead is at least the process's least thickness thick: from the
+    // substrate's surface straight under its tip to its layer's top (the tip on the layer's
+    // mid-plane, half its thickness under the top; the build direction is +Z here).
+    const double least = process.value().layer_min_mm;
+    std::size_t over = 0, thin = 0;
+    double thinnest = INFINITY;
+    for (const Tip& t : deposit_tips(dir.path(), c.name)) {
+      const double z = surface_under(on_table, t.tip);
+      const double half = 0.5 * plan["layers"][static_cast<std::size_t>(t.layer)]["thickness_mm"].get<double>();
+      if (!(t.tip.z - z < 2.0 * process.value().layer_max_mm)) continue;  // higher up: on earlier deposit
+      ++over;
+      thinnest = std::min(thinnest, t.tip.z + half - z);
+      if (t.tip.z + half - z < least - 1e-3) ++thin;
+    }
+    EXPECT_GT(over, 0u);
+    EXPECT_EQ(thin, 0u) << "thinnest " << thinnest << " mm over the substrate, least " << least;
   }
 }
 
