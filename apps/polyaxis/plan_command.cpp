@@ -160,9 +160,6 @@ int run_plan(PlanCommandOptions& o) {
   if (!o.substrate.empty() && !opt.prebuilt.empty()) {
     return report_error(core::make_error(core::ErrorCode::kUsage, "--substrate gives the prebuilt part as its own mesh; it contradicts --prebuilt"));
   }
-  if (!o.substrate.empty() && opt.strategy == planner::Strategy::kDecompose) {
-    return report_error(core::make_error(core::ErrorCode::kUsage, "--substrate deposits the rest along one direction (--dir); it contradicts --strategy decompose"));
-  }
   if (!opt.prebuilt.empty() && opt.strategy == planner::Strategy::kSingle) {
     return report_error(core::make_error(core::ErrorCode::kUsage, "--prebuilt names regions of the decomposition; it contradicts --strategy single"));
   }
@@ -240,7 +237,8 @@ Runner add_plan_command(CLI::App& app) {
   add_root_base_option(*cmd, o->root_base);
   cmd->add_option("--substrate", o->substrate,
                   "A part already on the table (STL, OBJ, 3MF, STEP or IGES, in the part's frame): it stands on the plate, the part "
-                  "less it is deposited onto it along --dir, and the head keeps clear of it");
+                  "less it is deposited onto it (along --dir with --strategy single, each piece along the substrate's normal under "
+                  "it with decompose, the better with auto), and the head keeps clear of it");
   cmd->add_option("--prebuilt", o->part_plan.prebuilt,
                   "Regions of the decomposition already made (ids as polyaxis analyze lists them; the root, or regions grown from "
                   "prebuilt ones): they stand on the table and the rest is deposited onto them")

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 #include "polyaxis/mesh/plane_cut.h"
@@ -70,15 +71,162 @@ core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const machin
   return Candidate{std::move(plan.value()), std::nullopt, Strategy::kSingle, {}};
 }
 
-// The part less the substrate, deposited onto it along O.direction (--substrate).
+// The connected pieces of MESH (faces sharing vertices), each a mesh of its own; a piece of
+// negative volume (a cavity's surface) goes with the first solid piece whose box holds it.
+std::vector<mesh::Mesh> connected_pieces(const mesh::Mesh& m) {
+  std::vector<std::uint32_t> parent(m.vertices.size());
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto find = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const auto& t : m.triangles) {
+    const std::uint32_t a = find(t[0]);
+    parent[find(t[1])] = a;
+    parent[find(t[2])] = a;
+  }
+  std::map<std::uint32_t, std::size_t> piece_of_root;
+  std::vector<mesh::Mesh> pieces;
+  std::vector<std::map<std::uint32_t, std::uint32_t>> index;
+  for (const auto& t : m.triangles) {
+    const std::uint32_t root = find(t[0]);
+    auto [it, added] = piece_of_root.try_emplace(root, pieces.size());
+    if (added) pieces.emplace_back(), index.emplace_back();
+    mesh::Mesh& piece = pieces[it->second];
+    std::array<std::uint32_t, 3> out{};
+    for (int k = 0; k < 3; ++k) {
+      auto [v, fresh] = index[it->second].try_emplace(t[static_cast<std::size_t>(k)], static_cast<std::uint32_t>(piece.vertices.size()));
+      if (fresh) piece.vertices.push_back(m.vertices[t[static_cast<std::size_t>(k)]]);
+      out[static_cast<std::size_t>(k)] = v->second;
+    }
+    piece.triangles.push_back(out);
+  }
+  std::vector<mesh::Mesh> solids, cavities;
+  for (mesh::Mesh& p : pieces) (mesh::signed_volume(p) > 0.0 ? solids : cavities).push_back(std::move(p));
+  for (const mesh::Mesh& c : cavities) {
+    for (mesh::Mesh& host : solids) {
+      core::Box3 box;
+      for (const Vec3& v : host.vertices) box.add(v);
+      const Vec3 q = c.vertices.front();
+      if (q.x < box.min.x || q.x > box.max.x || q.y < box.min.y || q.y > box.max.y || q.z < box.min.z || q.z > box.max.z) continue;
+      const auto base = static_cast<std::uint32_t>(host.vertices.size());
+      host.vertices.insert(host.vertices.end(), c.vertices.begin(), c.vertices.end());
+      for (const auto& t : c.triangles) host.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+      break;
+    }
+  }
+  return solids;
+}
+
+// The vertex of MESH lowest along D.
+Vec3 lowest_along(const mesh::Mesh& m, Vec3 d) {
+  Vec3 low = m.vertices.front();
+  for (const Vec3& v : m.vertices) {
+    if (core::dot(v, d) < core::dot(low, d)) low = v;
+  }
+  return low;
+}
+
+// The unit vector A turned towards B by DEG degrees (B itself when nearer).
+Vec3 turned_towards(Vec3 a, Vec3 b, double deg) {
+  a = core::normalized(a), b = core::normalized(b);
+  const double angle = std::acos(std::clamp(core::dot(a, b), -1.0, 1.0)), t = deg * std::numbers::pi / 180.0;
+  if (angle <= t || angle < 1e-9) return b;
+  const Vec3 ortho = core::normalized(b - a * core::dot(a, b));
+  return core::normalized(a * std::cos(t) + ortho * std::sin(t));
+}
+
+// Faces of a piece within this of the substrate's surface, facing into it, are the piece's base.
+constexpr double kOnSubstrateMm = 1e-6;
+constexpr double kFacingCos = 0.999;
+
+// The outward normal of the substrate where PIECE stands on it: the area-weighted mean of the
+// substrate faces PIECE's base lies on (none: the piece does not touch the substrate).
+std::optional<Vec3> base_normal(const mesh::Mesh& piece, const mesh::Mesh& substrate) {
+  Vec3 sum;
+  for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
+    const Vec3 area = mesh::face_area_vector(piece, f);
+    const double a2 = core::norm(area);
+    if (!(a2 > 0.0)) continue;
+    const Vec3 n = area / a2, c = (piece.corner(f, 0) + piece.corner(f, 1) + piece.corner(f, 2)) / 3.0;
+    for (std::size_t g = 0; g < substrate.triangles.size(); ++g) {
+      const Vec3 sa = mesh::face_area_vector(substrate, g);
+      const double s2 = core::norm(sa);
+      if (!(s2 > 0.0) || core::dot(sa / s2, n) > -kFacingCos) continue;
+      const Vec3 p0 = substrate.corner(g, 0);
+      if (std::abs(core::dot(c - p0, sa / s2)) > kOnSubstrateMm) continue;
+      // The centroid inside the triangle (same side of each edge as the normal says).
+      bool inside = true;
+      for (int k = 0; k < 3 && inside; ++k) {
+        const Vec3 e0 = substrate.corner(g, k), e1 = substrate.corner(g, (k + 1) % 3);
+        inside = core::dot(core::cross(e1 - e0, c - e0), sa) >= 0.0;
+      }
+      if (!inside) continue;
+      sum = sum + sa * (0.5 * a2 / s2);  // the piece face's area along the substrate's normal
+      break;
+    }
+  }
+  if (!(core::norm(sum) > 0.0)) return std::nullopt;
+  return core::normalized(sum);
+}
+
+// The substrate as region 0 (prebuilt, along UP) and REST's connected pieces as regions 1, 2, …
+// grown from it, each along the substrate's normal under its base turned towards UP into the reach.
+core::Result<Candidate> plan_substrate_pieces(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                              const process::ProcessConfig& process, const PlanPartOptions& o, mesh::Mesh rest) {
+  const Vec3 up = core::normalized(o.direction);
+  const double reach = detail::reach_rad(machine);
+  std::vector<PlanRegion> regions(1);
+  PlanRegion& base = regions.front();
+  base.mesh = *o.substrate;
+  base.direction = up;
+  base.prebuilt = true;
+  base.rule = kRegionSubstrate;
+  base.volume_mm3 = std::abs(mesh::signed_volume(base.mesh));
+  base.base_point = lowest_along(base.mesh, up);
+  bool turned = false;
+  for (mesh::Mesh& piece : connected_pieces(rest)) {
+    PlanRegion r;
+    r.id = static_cast<std::uint32_t>(regions.size());
+    const std::optional<Vec3> normal = base_normal(piece, *o.substrate);
+    Vec3 d = normal.value_or(up);
+    const double angle = std::acos(std::clamp(core::dot(d, up), -1.0, 1.0));
+    if (angle > reach) d = turned_towards(d, up, (angle - reach) * 180.0 / std::numbers::pi);
+    turned = turned || core::norm(d - up) > 1e-9;
+    r.direction = d;
+    r.parent = 0;
+    r.rests_on = {0};
+    r.rule = kRegionOnSubstrate;
+    r.mesh = std::move(piece);
+    r.volume_mm3 = std::abs(mesh::signed_volume(r.mesh));
+    r.base_point = lowest_along(r.mesh, d);
+    regions.push_back(std::move(r));
+  }
+  if (regions.size() < 2 || (!turned && o.strategy == Strategy::kAuto)) {
+    return core::make_error(core::ErrorCode::kInfeasible, "every piece on the substrate grows along the given direction: nothing to turn");
+  }
+  PlanOptions po = o.plan;
+  po.direction = up;
+  auto plan = make_plan(part, machine, process, po, regions);
+  if (!plan) return plan.error();
+  Candidate c;
+  c.plan = std::move(plan.value());
+  c.strategy = Strategy::kDecompose;
+  return c;
+}
+
+// The part less the substrate, deposited onto it (--substrate): along O.direction as one region,
+// or (PER_PIECE) each connected piece as a region of its own along the substrate's normal under
+// its base, turned towards O.direction into the tilt's reach.
 core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                          const process::ProcessConfig& process, const PlanPartOptions& o) {
+                                          const process::ProcessConfig& process, const PlanPartOptions& o, bool per_piece) {
   auto rest = mesh::difference(part.mesh, *o.substrate);
   if (!rest) return core::make_error(rest.error().code, "--substrate: the part less the substrate: " + rest.error().message);
   if (rest.value().triangles.empty()) {
     return core::make_error(core::ErrorCode::kInfeasible, "--substrate: nothing to build: the substrate holds the whole part");
   }
   const Vec3 up = core::normalized(o.direction);
+  if (per_piece) return plan_substrate_pieces(part, machine, process, o, std::move(rest.value()));
   PlanRegion base;
   base.id = 0;
   base.mesh = *o.substrate;
@@ -86,10 +234,7 @@ core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const 
   base.prebuilt = true;
   base.rule = kRegionSubstrate;
   base.volume_mm3 = std::abs(mesh::signed_volume(base.mesh));
-  base.base_point = base.mesh.vertices.front();
-  for (const Vec3& v : base.mesh.vertices) {
-    if (core::dot(v, up) < core::dot(base.base_point, up)) base.base_point = v;
-  }
+  base.base_point = lowest_along(base.mesh, up);
   PlanRegion top;
   top.id = 1;
   top.mesh = std::move(rest.value());
@@ -98,10 +243,7 @@ core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const 
   top.rests_on = {0};
   top.rule = kRegionOnSubstrate;
   top.volume_mm3 = std::abs(mesh::signed_volume(top.mesh));
-  top.base_point = top.mesh.vertices.front();
-  for (const Vec3& v : top.mesh.vertices) {
-    if (core::dot(v, up) < core::dot(top.base_point, up)) top.base_point = v;
-  }
+  top.base_point = lowest_along(top.mesh, up);
   PlanOptions po = o.plan;
   po.direction = up;
   auto plan = make_plan(part, machine, process, po, {std::move(base), std::move(top)});
@@ -221,15 +363,34 @@ bool better(const Plan& a, const Plan& b) {
   return a.reorientations < b.reorientations;
 }
 
+// --substrate: the part less the substrate along one direction (kSingle), each of its pieces along
+// the substrate's normal under it (kDecompose), or both and the better (kAuto, as choose()).
+core::Result<Candidate> choose_on_substrate(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                            const process::ProcessConfig& process, const PlanPartOptions& o, std::string& why) {
+  const std::string one = "the part less the substrate, along the given direction, onto the substrate (--substrate)";
+  const std::string pieces = "the part less the substrate, each piece along the substrate's normal under it (--substrate)";
+  if (o.strategy != Strategy::kAuto) {
+    why = o.strategy == Strategy::kSingle ? one : pieces;
+    return plan_on_substrate(part, machine, process, o, o.strategy == Strategy::kDecompose);
+  }
+  auto single = plan_on_substrate(part, machine, process, o, false);
+  if (single && single.value().plan.unsupported_area_mm2 == 0.0) {
+    why = one;
+    return single;
+  }
+  auto turned = plan_on_substrate(part, machine, process, o, true);
+  if (!turned || (single && !better(turned.value().plan, single.value().plan))) {
+    why = single ? fmt::format("{}{}", one, turned ? "; the pieces along the substrate's normal do no better" : "") : one;
+    return single;
+  }
+  why = fmt::format("{} ({} mm2 unsupported along the given direction)", pieces,
+                    single ? area_text(single.value().plan.unsupported_area_mm2) : std::string("nothing planned"));
+  return turned;
+}
+
 core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                const PlanPartOptions& o, std::string& why) {
-  if (o.substrate) {
-    if (o.strategy == Strategy::kDecompose) {
-      return core::make_error(core::ErrorCode::kUsage, "--substrate deposits the rest along one direction (--dir); it contradicts --strategy decompose");
-    }
-    why = "the part less the substrate, along the given direction, onto the substrate (--substrate)";
-    return plan_on_substrate(part, machine, process, o);
-  }
+  if (o.substrate) return choose_on_substrate(part, machine, process, o, why);
   if (!o.prebuilt.empty()) {
     if (o.strategy == Strategy::kSingle) {
       return core::make_error(core::ErrorCode::kUsage, "--prebuilt names regions of the decomposition; it contradicts --strategy single");
@@ -375,7 +536,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
   out.warnings = std::move(chosen.value().warnings);
   core::Status made = program_of(machine, process, options, out);
   if (made) made = relieve(machine, process, options, out);
-  const bool mid_air = made && !out.check.mid_air_regions.empty(), collides = made && out.check.collisions > 0;
+  bool mid_air = made && !out.check.mid_air_regions.empty(), collides = made && out.check.collisions > 0;
   if (options.plan.layers == LayerChoice::kAuto && uses_tilted(out.plan) && (!made || mid_air || collides)) {
     // Tilted layers whose program cannot be written or, read back, starts in mid-air or strikes
     // something (the torch turned with the layers brings the head down to the plate): the whole
@@ -394,7 +555,31 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
       return alt;
     }
   }
-  if (options.strategy == Strategy::kAuto && options.prebuilt.empty() && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
+  if (options.strategy == Strategy::kAuto && options.substrate && out.strategy_used == Strategy::kSingle && (!made || mid_air || collides)) {
+    // On a substrate, one direction whose program cannot be written, or read back starts in
+    // mid-air or strikes something: each piece along the substrate's normal under it, when that
+    // reads back clean.
+    auto pieces = plan_on_substrate(part, machine, process, options, true);
+    if (pieces) {
+      PlanPartResult alt;
+      alt.plan = std::move(pieces.value().plan);
+      alt.strategy_used = Strategy::kDecompose;
+      if (program_of(machine, process, options, alt) && relieve(machine, process, options, alt) && alt.check.collisions == 0 &&
+          alt.check.mid_air_regions.empty()) {
+        const std::string why = !made     ? fmt::format("along the given direction the program cannot be written: {}", made.error().message)
+                                : mid_air ? std::string("along the given direction the deposit starts in mid-air")
+                                          : fmt::format("along the given direction the program read back strikes something at {} samples "
+                                                        "(the first: {})",
+                                                        out.check.collisions, describe(out.check.collision_list.front()));
+        alt.choice = fmt::format("the part less the substrate, each piece along the substrate's normal under it (--substrate): {}", why);
+        alt.warnings = {fmt::format("each piece on the substrate is built along the substrate's normal under it because {}", why)};
+        alt.choose_s = out.choose_s;
+        out = std::move(alt);
+        made = {}, mid_air = false, collides = false;
+      }
+    }
+  }
+  if (options.strategy == Strategy::kAuto && options.prebuilt.empty() && !options.substrate && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
     // The decomposition's program cannot be written (a limit of the machine that only shows in
     // the program, such as C winding past its end stops on a tilted region), or, read back, a
     // region starts in mid-air, or the head strikes something no order or tilt could avoid: one

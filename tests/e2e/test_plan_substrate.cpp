@@ -79,21 +79,46 @@ std::vector<Tip> deposit_tips(const std::filesystem::path& dir, const std::strin
   return out;
 }
 
-// The highest point of MESH's surface straight under P (−inf when none): the vertical line
-// through P against every triangle.
-double surface_under(const RawMesh& mesh, Vec3 p) {
-  double best = -INFINITY;
+// How far MESH's surface lies from P along −N (unit), the nearest hit of that ray (+inf when none).
+double depth_under(const RawMesh& mesh, Vec3 p, Vec3 n) {
+  double best = INFINITY;
   for (const auto& t : mesh.triangles) {
     const Vec3 a = mesh.points[t[0]], b = mesh.points[t[1]], c = mesh.points[t[2]];
-    const double d = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
-    if (std::abs(d) < 1e-12) continue;
-    const double u = ((p.x - a.x) * (c.y - a.y) - (c.x - a.x) * (p.y - a.y)) / d;
-    const double v = ((b.x - a.x) * (p.y - a.y) - (p.x - a.x) * (b.y - a.y)) / d;
+    // Möller–Trumbore with the ray p − s·n, s ≥ 0.
+    const Vec3 dir = n * -1.0, e1 = b - a, e2 = c - a, q = core::cross(dir, e2);
+    const double det = core::dot(e1, q);
+    if (std::abs(det) < 1e-12) continue;
+    const Vec3 r = p - a;
+    const double u = core::dot(r, q) / det;
+    const Vec3 w = core::cross(r, e1);
+    const double v = core::dot(dir, w) / det;
     if (u < 0.0 || v < 0.0 || u + v > 1.0) continue;
-    const double z = a.z + (b.z - a.z) * u + (c.z - a.z) * v;
-    if (z <= p.z) best = std::max(best, z);
+    const double s = core::dot(e2, w) / det;
+    if (s >= 0.0) best = std::min(best, s);
   }
   return best;
+}
+
+// Every bead of the program in DIR over the substrate ON_TABLE is at least the process's least
+// thickness thick: from the substrate's surface along the layer's normal under its tip to its
+// layer's top (the tip on the layer's mid-plane, half its thickness under the top).
+void expect_thick_enough_over(const std::filesystem::path& dir, const std::string& name, const RawMesh& on_table) {
+  auto process = process::parse_process(process::default_process_json(), "default");
+  const auto plan = read_json(dir / "plan.json");
+  const double least = process.value().layer_min_mm;
+  std::size_t over = 0, thin = 0;
+  double thinnest = INFINITY;
+  for (const Tip& t : deposit_tips(dir, name)) {
+    const auto& layer = plan["layers"][static_cast<std::size_t>(t.layer)];
+    const Vec3 n = core::normalized({layer["normal"][0].get<double>(), layer["normal"][1].get<double>(), layer["normal"][2].get<double>()});
+    const double depth = depth_under(on_table, t.tip, n), half = 0.5 * layer["thickness_mm"].get<double>();
+    if (!(depth < 2.0 * process.value().layer_max_mm)) continue;  // farther: on earlier deposit
+    ++over;
+    thinnest = std::min(thinnest, depth + half);
+    if (depth + half < least - 1e-3) ++thin;
+  }
+  EXPECT_GT(over, 0u);
+  EXPECT_EQ(thin, 0u) << "thinnest " << thinnest << " mm over the substrate, least " << least;
 }
 
 TEST(PlanSubstrate, DepositLaidOntoASubstrateReadsBackGroundedAndClearOfIt) {
@@ -136,22 +161,63 @@ TEST(PlanSubstrate, DepositLaidOntoASubstrateReadsBackGroundedAndClearOfIt) {
     const ReadBack bare = read_back(machine.value(), process.value(), plate, slurp(dir / (c.name + ".ngc")), 1.2, 0.225);
     EXPECT_FALSE(bare.regions_starting_in_air.empty());
     EXPECT_GT(lowest_deposit_z(dir.path(), c.name), 2.0);  // on the substrate, not on the plate
-    // Over the substrate, every bead is at least the process's least thickness thick: from the
-    // substrate's surface straight under its tip to its layer's top (the tip on the layer's
-    // mid-plane, half its thickness under the top; the build direction is +Z here).
-    const double least = process.value().layer_min_mm;
-    std::size_t over = 0, thin = 0;
-    double thinnest = INFINITY;
-    for (const Tip& t : deposit_tips(dir.path(), c.name)) {
-      const double z = surface_under(on_table, t.tip);
-      const double half = 0.5 * plan["layers"][static_cast<std::size_t>(t.layer)]["thickness_mm"].get<double>();
-      if (!(t.tip.z - z < 2.0 * process.value().layer_max_mm)) continue;  // higher up: on earlier deposit
-      ++over;
-      thinnest = std::min(thinnest, t.tip.z + half - z);
-      if (t.tip.z + half - z < least - 1e-3) ++thin;
+    expect_thick_enough_over(dir.path(), c.name, on_table);
+  }
+}
+
+// Bosses standing on a dome along its normals, too far off vertical for one direction: each piece
+// grows along the dome's normal under it (auto takes that), reads back clean and stays thick
+// enough over the dome.
+TEST(PlanSubstrate, PiecesGrowAlongTheSubstratesNormalUnderThem) {
+  struct Case {
+    std::string name;
+    double radius, height;
+    std::uint32_t n, m;
+    std::vector<double> polar_deg;
+  };
+  const std::vector<Case> cases = {{"three_on_dome", 30, 25, 96, 32, {45, 40, 40}}, {"four_on_flat_dome", 45, 20, 64, 20, {38, 35, 30, 25}}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const double zc = c.height - c.radius;
+    RawMesh bosses;
+    std::vector<Vec3> axes;
+    for (std::size_t i = 0; i < c.polar_deg.size(); ++i) {
+      const double pol = c.polar_deg[i] * M_PI / 180.0, az = 2.0 * M_PI * static_cast<double>(i) / static_cast<double>(c.polar_deg.size());
+      const Vec3 n{std::sin(pol) * std::cos(az), std::sin(pol) * std::sin(az), std::cos(pol)};
+      bosses = join(bosses, cylinder(Vec3{0, 0, zc} + n * (c.radius - 3.0), n, 4, 14, 40));
+      axes.push_back(n);
     }
-    EXPECT_GT(over, 0u);
-    EXPECT_EQ(thin, 0u) << "thinnest " << thinnest << " mm over the substrate, least " << least;
+    const RawMesh dome = spherical_cap(c.radius, c.height, c.n, c.m);
+    TempDir dir;
+    write_file(dir / (c.name + ".stl"), binary_stl(bosses));
+    write_file(dir / "dome.stl", binary_stl(dome));
+    const auto r = run_cli("plan '" + (dir / (c.name + ".stl")).string() + "' --substrate '" + (dir / "dome.stl").string() + "' --no-html -o '" +
+                           dir.path().string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto report = read_json(dir / "report.json");
+    EXPECT_EQ(report["strategy"].get<std::string>(), "decompose");
+    EXPECT_TRUE(report["support_free"].get<bool>());
+    const auto plan = read_json(dir / "plan.json");
+    ASSERT_EQ(plan["regions"].size(), axes.size() + 1);
+    // Each boss's region grows along its own axis (the dome's normal under it), placed on the table.
+    const auto& rows = plan["placement_rotation"];
+    for (std::size_t k = 1; k < plan["regions"].size(); ++k) {
+      const auto& d = plan["regions"][k]["build_direction"];
+      const Vec3 dir_table{d[0].get<double>(), d[1].get<double>(), d[2].get<double>()};
+      double best = -1.0;
+      for (const Vec3& a : axes) {
+        const Vec3 placed{rows[0][0].get<double>() * a.x + rows[0][1].get<double>() * a.y + rows[0][2].get<double>() * a.z,
+                          rows[1][0].get<double>() * a.x + rows[1][1].get<double>() * a.y + rows[1][2].get<double>() * a.z,
+                          rows[2][0].get<double>() * a.x + rows[2][1].get<double>() * a.y + rows[2][2].get<double>() * a.z};
+        best = std::max(best, core::dot(placed, dir_table));
+      }
+      EXPECT_GT(best, std::cos(3.0 * M_PI / 180.0)) << "region " << k;
+    }
+    const RawMesh on_table = placed(dome, plan);
+    const ReadBack rb = check_readback(dir.path(), c.name, false, &on_table);
+    EXPECT_EQ(rb.ungrounded, 0u) << rb.first_problem;
+    expect_thick_enough_over(dir.path(), c.name, on_table);
+    expect_rs274_reads(dir.path(), dir / (c.name + ".ngc"));
   }
 }
 
@@ -187,7 +253,9 @@ TEST(PlanSubstrate, BadSubstrateOptionsGetUsageErrors) {
   write_file(part, binary_stl(box({-5, -5, 0}, {5, 5, 20})));
   write_file(substrate, binary_stl(box({-5, -5, 0}, {5, 5, 8})));
   const std::string base = "plan '" + part.string() + "' --no-html -o '" + dir.path().string() + "' ";
-  EXPECT_EQ(run_cli(base + "--substrate '" + substrate.string() + "' --strategy decompose").exit_code, 2);
+  // One piece growing straight up: decomposed, it is that one region along the substrate's normal.
+  ASSERT_EQ(run_cli(base + "--substrate '" + substrate.string() + "' --strategy decompose").exit_code, 0);
+  EXPECT_EQ(read_json(dir / "plan.json")["regions"].size(), 2u);
   EXPECT_EQ(run_cli(base + "--substrate '" + substrate.string() + "' --prebuilt 0").exit_code, 2);
   EXPECT_EQ(run_cli(base + "--prebuilt 0 --strategy single").exit_code, 2);
   EXPECT_EQ(run_cli(base + "--substrate '" + (dir / "missing.stl").string() + "'").exit_code, 3);

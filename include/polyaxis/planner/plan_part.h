@@ -38,8 +38,9 @@ struct PlanPartOptions {
   // (kInfeasible) unless this is set (`--allow-collisions`): then it is kept, with a warning.
   bool allow_collisions = false;
   // A part already on the table (`--substrate MESH`, in the part's frame): the part less it is
-  // deposited onto it along `direction` (one direction: the strategy must not be kDecompose), and
-  // it stands on the plate. The head keeps clear of it (verify.h).
+  // deposited onto it, along `direction` (kSingle) or each connected piece along the substrate's
+  // normal under its base (kDecompose), kAuto choosing as docs/plan.md says; it stands on the
+  // plate. The head keeps clear of it (verify.h).
   std::optional<mesh::Mesh> substrate;
   // Regions of the decomposition already made (`--prebuilt ID`): the root, or regions whose parent
   // is prebuilt; they stand on the table and the rest is deposited onto them (the strategy must
