@@ -143,13 +143,25 @@ constexpr double kFacingCos = 0.999;
 // The outward normal of the substrate where PIECE stands on it: the area-weighted mean of the
 // substrate faces PIECE's base lies on (none: the piece does not touch the substrate).
 std::optional<Vec3> base_normal(const mesh::Mesh& piece, const mesh::Mesh& substrate) {
+  // Only the substrate's faces whose box meets the piece's can hold its base.
+  core::Box3 box;
+  for (const Vec3& v : piece.vertices) box.add(v);
+  std::vector<std::size_t> near;
+  for (std::size_t g = 0; g < substrate.triangles.size(); ++g) {
+    core::Box3 face;
+    for (int k = 0; k < 3; ++k) face.add(substrate.corner(g, k));
+    if (face.min.x <= box.max.x + kOnSubstrateMm && face.max.x >= box.min.x - kOnSubstrateMm && face.min.y <= box.max.y + kOnSubstrateMm &&
+        face.max.y >= box.min.y - kOnSubstrateMm && face.min.z <= box.max.z + kOnSubstrateMm && face.max.z >= box.min.z - kOnSubstrateMm) {
+      near.push_back(g);
+    }
+  }
   Vec3 sum;
   for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
     const Vec3 area = mesh::face_area_vector(piece, f);
     const double a2 = core::norm(area);
     if (!(a2 > 0.0)) continue;
     const Vec3 n = area / a2, c = (piece.corner(f, 0) + piece.corner(f, 1) + piece.corner(f, 2)) / 3.0;
-    for (std::size_t g = 0; g < substrate.triangles.size(); ++g) {
+    for (const std::size_t g : near) {
       const Vec3 sa = mesh::face_area_vector(substrate, g);
       const double s2 = core::norm(sa);
       if (!(s2 > 0.0) || core::dot(sa / s2, n) > -kFacingCos) continue;
