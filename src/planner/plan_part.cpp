@@ -182,54 +182,37 @@ std::optional<Vec3> base_normal(const mesh::Mesh& piece, const mesh::Mesh& subst
   return core::normalized(sum);
 }
 
-// The substrate as region 0 (prebuilt, along UP) and REST's connected pieces as regions 1, 2, …
-// grown from it, each along the substrate's normal under its base turned towards UP into the reach.
-core::Result<Candidate> plan_substrate_pieces(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                              const process::ProcessConfig& process, const PlanPartOptions& o, mesh::Mesh rest) {
-  const Vec3 up = core::normalized(o.direction);
-  const double reach = detail::reach_rad(machine);
-  std::vector<PlanRegion> regions(1);
-  PlanRegion& base = regions.front();
-  base.mesh = *o.substrate;
+// The substrate as region 0: prebuilt, along UP.
+PlanRegion substrate_region(const mesh::Mesh& substrate, Vec3 up) {
+  PlanRegion base;
+  base.id = 0;
+  base.mesh = substrate;
   base.direction = up;
   base.prebuilt = true;
   base.rule = kRegionSubstrate;
   base.volume_mm3 = std::abs(mesh::signed_volume(base.mesh));
   base.base_point = lowest_along(base.mesh, up);
-  bool turned = false;
-  for (mesh::Mesh& piece : connected_pieces(rest)) {
-    PlanRegion r;
-    r.id = static_cast<std::uint32_t>(regions.size());
-    const std::optional<Vec3> normal = base_normal(piece, *o.substrate);
-    Vec3 d = normal.value_or(up);
-    const double angle = std::acos(std::clamp(core::dot(d, up), -1.0, 1.0));
-    if (angle > reach) d = turned_towards(d, up, (angle - reach) * 180.0 / std::numbers::pi);
-    turned = turned || core::norm(d - up) > 1e-9;
-    r.direction = d;
-    r.parent = 0;
-    r.rests_on = {0};
-    r.rule = kRegionOnSubstrate;
-    r.mesh = std::move(piece);
-    r.volume_mm3 = std::abs(mesh::signed_volume(r.mesh));
-    r.base_point = lowest_along(r.mesh, d);
-    regions.push_back(std::move(r));
-  }
-  if (regions.size() < 2 || (!turned && o.strategy == Strategy::kAuto)) {
-    return core::make_error(core::ErrorCode::kInfeasible, "every piece on the substrate grows along the given direction: nothing to turn");
-  }
-  PlanOptions po = o.plan;
-  po.direction = up;
-  auto plan = make_plan(part, machine, process, po, regions);
-  if (!plan) return plan.error();
-  Candidate c;
-  c.plan = std::move(plan.value());
-  c.strategy = Strategy::kDecompose;
-  return c;
+  return base;
+}
+
+// A piece of the deposit as region ID, grown from the substrate along D.
+PlanRegion on_substrate_region(std::uint32_t id, mesh::Mesh piece, Vec3 d) {
+  PlanRegion r;
+  r.id = id;
+  r.direction = d;
+  r.parent = 0;
+  r.rests_on = {0};
+  r.rule = kRegionOnSubstrate;
+  r.mesh = std::move(piece);
+  r.volume_mm3 = std::abs(mesh::signed_volume(r.mesh));
+  r.base_point = lowest_along(r.mesh, d);
+  return r;
 }
 
 // The part less the substrate, deposited onto it (--substrate): along O.direction as one region,
 // or (PER_PIECE) each connected piece as a region of its own along the substrate's normal under
-// its base, turned towards O.direction into the tilt's reach.
+// its base, turned towards O.direction into the tilt's reach (kInfeasible under kAuto when that
+// turns none: the one direction again).
 core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                           const process::ProcessConfig& process, const PlanPartOptions& o, bool per_piece) {
   auto rest = mesh::difference(part.mesh, *o.substrate);
@@ -238,29 +221,31 @@ core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const 
     return core::make_error(core::ErrorCode::kInfeasible, "--substrate: nothing to build: the substrate holds the whole part");
   }
   const Vec3 up = core::normalized(o.direction);
-  if (per_piece) return plan_substrate_pieces(part, machine, process, o, std::move(rest.value()));
-  PlanRegion base;
-  base.id = 0;
-  base.mesh = *o.substrate;
-  base.direction = up;
-  base.prebuilt = true;
-  base.rule = kRegionSubstrate;
-  base.volume_mm3 = std::abs(mesh::signed_volume(base.mesh));
-  base.base_point = lowest_along(base.mesh, up);
-  PlanRegion top;
-  top.id = 1;
-  top.mesh = std::move(rest.value());
-  top.direction = up;
-  top.parent = 0;
-  top.rests_on = {0};
-  top.rule = kRegionOnSubstrate;
-  top.volume_mm3 = std::abs(mesh::signed_volume(top.mesh));
-  top.base_point = lowest_along(top.mesh, up);
+  std::vector<PlanRegion> regions{substrate_region(*o.substrate, up)};
+  if (!per_piece) {
+    regions.push_back(on_substrate_region(1, std::move(rest.value()), up));
+  } else {
+    const double reach = detail::reach_rad(machine);
+    bool turned = false;
+    for (mesh::Mesh& piece : connected_pieces(rest.value())) {
+      Vec3 d = base_normal(piece, *o.substrate).value_or(up);
+      const double angle = std::acos(std::clamp(core::dot(d, up), -1.0, 1.0));
+      if (angle > reach) d = turned_towards(d, up, (angle - reach) * 180.0 / std::numbers::pi);
+      turned = turned || core::norm(d - up) > 1e-9;
+      regions.push_back(on_substrate_region(static_cast<std::uint32_t>(regions.size()), std::move(piece), d));
+    }
+    if (regions.size() < 2 || (!turned && o.strategy == Strategy::kAuto)) {
+      return core::make_error(core::ErrorCode::kInfeasible, "every piece on the substrate grows along the given direction: nothing to turn");
+    }
+  }
   PlanOptions po = o.plan;
   po.direction = up;
-  auto plan = make_plan(part, machine, process, po, {std::move(base), std::move(top)});
+  auto plan = make_plan(part, machine, process, po, regions);
   if (!plan) return plan.error();
-  return Candidate{std::move(plan.value()), std::nullopt, Strategy::kSingle, {}};
+  Candidate c;
+  c.plan = std::move(plan.value());
+  c.strategy = per_piece ? Strategy::kDecompose : Strategy::kSingle;
+  return c;
 }
 
 // Marks the regions O.prebuilt names as prebuilt; kUsage for an id that is not a region.

@@ -25,29 +25,6 @@ struct OnSubstrate {
   std::string extra;  // more options
 };
 
-// The lowest deposit point of the program read back, table frame.
-double lowest_deposit_z(const std::filesystem::path& dir, const std::string& name) {
-  auto m = machine::parse_machine(machine::default_machine_json(), "default");
-  auto p = process::parse_process(process::default_process_json(), "default");
-  EXPECT_TRUE(m.ok() && p.ok());
-  std::istringstream in(slurp(dir / (name + ".ngc")));
-  std::string line;
-  std::array<double, 6> pos{};
-  bool on = false;
-  double low = INFINITY;
-  const std::string letters = "XYZABC";
-  while (std::getline(in, line)) {
-    if (line == p.value().process_on) on = true;
-    if (line == p.value().process_off) on = false;
-    if (line.rfind("G1 ", 0) != 0) continue;
-    for (std::size_t i = 0; i < 6; ++i) {
-      if (const auto at = line.find(letters[i]); at != std::string::npos) pos[i] = std::stod(line.substr(at + 1));
-    }
-    if (on) low = std::min(low, machine::forward(m.value(), {pos[0], pos[1], pos[2], pos[3], pos[5]}).tip_part_mm.z);
-  }
-  return low;
-}
-
 struct Tip {
   int layer = -1;
   Vec3 tip;
@@ -77,6 +54,13 @@ std::vector<Tip> deposit_tips(const std::filesystem::path& dir, const std::strin
     if (on) out.push_back({layer, machine::forward(m.value(), {pos[0], pos[1], pos[2], pos[3], pos[5]}).tip_part_mm});
   }
   return out;
+}
+
+// The lowest deposit point of the program in DIR read back, table frame.
+double lowest_deposit_z(const std::filesystem::path& dir, const std::string& name) {
+  double low = INFINITY;
+  for (const Tip& t : deposit_tips(dir, name)) low = std::min(low, t.tip.z);
+  return low;
 }
 
 // How far MESH's surface lies from P along −N (unit), the nearest hit of that ray (+inf when none).
