@@ -167,13 +167,24 @@ core::Result<SliceResult> slice_adaptive(const SectionContext& ctx, const SliceO
     } else {
       ++result.limit_violations;
     }
-    // The last layer ends at the top: a thinner layer there keeps Σ area × t equal to the volume.
+    // The last layer ends at the top: Σ area × t stays equal to the volume.
     double t = std::min(ts[best], top - h);
     const auto flat = std::upper_bound(flats.begin(), flats.end(), h + 0.5 * o.min_mm);
     if (flat != flats.end() && *flat < h + t && *flat - h >= o.min_mm * (1.0 - 1e-9)) {
       t = *flat - h;
     } else if (flat != flats.end() && *flat < h + t + o.min_mm && *flat - h - o.min_mm >= o.min_mm * (1.0 - 1e-9)) {
       t = *flat - h - o.min_mm;  // leave exactly ΔL_min for the next layer to end on the flat
+    }
+    // A remainder thinner than ΔL_min above this layer would be a layer the process cannot lay:
+    // this one takes it, or the rest is split in two equal layers, where that stays within ΔL_max
+    // and the limits (else the thin top layer stays).
+    if (const double rest = top - (h + t); rest > 0.0 && rest < o.min_mm * (1.0 - 1e-9)) {
+      const double half = 0.5 * (top - h);
+      if (t + rest <= o.max_mm * (1.0 + 1e-9) && admissible(t + rest, *faces, bottom)) {
+        t += rest;
+      } else if (half >= o.min_mm * (1.0 - 1e-9) && half <= o.max_mm * (1.0 + 1e-9) && admissible(half, *faces, bottom)) {
+        t = half;
+      }
     }
     Layer layer;
     layer.index = static_cast<std::uint32_t>(result.layers.size());

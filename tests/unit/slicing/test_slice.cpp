@@ -220,6 +220,38 @@ TEST(Adaptive, ThicknessesStayInRangeAndOnTheSnapGrid) {
   EXPECT_NEAR(r.value().volume_estimate_mm3, mesh::signed_volume(m), 0.01 * mesh::signed_volume(m));
 }
 
+// The top: a remainder thinner than the least thickness goes into the layer under it, or the
+// two share the rest, whenever the range and the limits allow; the layers still span the part.
+// Sliced a little off the box's axis, its top is a corner (no flat to end on).
+TEST(Adaptive, NoTopLayerThinnerThanTheLeastWhereTheRangeAllowsIt) {
+  int thin_without = 0;
+  for (const double height : {7.05, 7.25, 6.95, 3.31, 0.95, 12.0, 5.5, 4.12}) {
+    SCOPED_TRACE(height);
+    const mesh::Mesh m = repaired(test::box({0, 0, 0}, {10, 6, height}));
+    SliceOptions o;
+    o.adaptive = true;
+    o.direction = {0.0, std::sin(0.02), std::cos(0.02)};
+    o.min_mm = 0.3;
+    o.max_mm = 0.7;
+    auto r = slice(m, o);
+    ASSERT_TRUE(r.ok());
+    expect_valid_layers(r.value());
+    const auto& ls = r.value().layers;
+    ASSERT_FALSE(ls.empty());
+    for (const Layer& l : ls) {
+      EXPECT_GE(l.thickness_mm(), 0.3 - 1e-9);
+      EXPECT_LE(l.thickness_mm(), 0.7 + 1e-9);
+    }
+    // From the box's lowest corner to its highest along the direction.
+    const double span = height * std::cos(0.02) + 6.0 * std::sin(0.02);
+    EXPECT_NEAR(ls.back().height_mm + ls.back().above_mm - (ls.front().height_mm - ls.front().below_mm), span, 1e-6);
+    // Uniform layers of the largest thickness would leave a thin top here.
+    const double rest = std::fmod(span, 0.7);
+    thin_without += rest > 1e-6 && rest < 0.3 ? 1 : 0;
+  }
+  EXPECT_GT(thin_without, 2);
+}
+
 TEST(Adaptive, CuspLimitThinsLayersOnSlopes) {
   // A cone: slope everywhere, so the cusp limit fixes t = cusp / |n·d| throughout.
   io::RawMesh cone;
