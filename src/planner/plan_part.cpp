@@ -513,6 +513,19 @@ const char* strategy_name(Strategy s) {
 
 namespace {
 
+// CANDIDATE's program (with its relief rounds) when it can be written and reads back clean: no
+// collision, no region starting in mid-air.
+std::optional<PlanPartResult> clean_program(core::Result<Candidate> candidate, Strategy strategy, const machine::MachineConfig& machine,
+                                            const process::ProcessConfig& process, const PlanPartOptions& options) {
+  if (!candidate) return std::nullopt;
+  PlanPartResult out;
+  out.plan = std::move(candidate.value().plan);
+  out.strategy_used = strategy;
+  if (!program_of(machine, process, options, out) || !relieve(machine, process, options, out)) return std::nullopt;
+  if (out.check.collisions > 0 || !out.check.mid_air_regions.empty()) return std::nullopt;
+  return out;
+}
+
 bool uses_tilted(const Plan& plan) {
   return std::any_of(plan.placed_regions.begin(), plan.placed_regions.end(),
                      [](const PlanRegion& r) { return r.layers == slicing::LayerStrategy::kTilted; });
@@ -556,24 +569,18 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // On a substrate, one direction whose program cannot be written, or read back starts in
     // mid-air or strikes something: each piece along the substrate's normal under it, when that
     // reads back clean.
-    auto pieces = plan_on_substrate(part, machine, process, options, true);
-    if (pieces) {
-      PlanPartResult alt;
-      alt.plan = std::move(pieces.value().plan);
-      alt.strategy_used = Strategy::kDecompose;
-      if (program_of(machine, process, options, alt) && relieve(machine, process, options, alt) && alt.check.collisions == 0 &&
-          alt.check.mid_air_regions.empty()) {
-        const std::string why = !made     ? fmt::format("along the given direction the program cannot be written: {}", made.error().message)
-                                : mid_air ? std::string("along the given direction the deposit starts in mid-air")
-                                          : fmt::format("along the given direction the program read back strikes something at {} samples "
-                                                        "(the first: {})",
-                                                        out.check.collisions, describe(out.check.collision_list.front()));
-        alt.choice = fmt::format("the part less the substrate, each piece along the substrate's normal under it (--substrate): {}", why);
-        alt.warnings = {fmt::format("each piece on the substrate is built along the substrate's normal under it because {}", why)};
-        alt.choose_s = out.choose_s;
-        out = std::move(alt);
-        made = {}, mid_air = false, collides = false;
-      }
+    if (auto clean = clean_program(plan_on_substrate(part, machine, process, options, true), Strategy::kDecompose, machine, process, options)) {
+      PlanPartResult& alt = *clean;
+      const std::string why = !made     ? fmt::format("along the given direction the program cannot be written: {}", made.error().message)
+                              : mid_air ? std::string("along the given direction the deposit starts in mid-air")
+                                        : fmt::format("along the given direction the program read back strikes something at {} samples "
+                                                      "(the first: {})",
+                                                      out.check.collisions, describe(out.check.collision_list.front()));
+      alt.choice = fmt::format("the part less the substrate, each piece along the substrate's normal under it (--substrate): {}", why);
+      alt.warnings = {fmt::format("each piece on the substrate is built along the substrate's normal under it because {}", why)};
+      alt.choose_s = out.choose_s;
+      out = std::move(alt);
+      made = {}, mid_air = false, collides = false;
     }
   }
   if (options.strategy == Strategy::kAuto && options.prebuilt.empty() && !options.substrate && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
@@ -581,23 +588,17 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // the program, such as C winding past its end stops on a tilted region), or, read back, a
     // region starts in mid-air, or the head strikes something no order or tilt could avoid: one
     // direction instead, when that one reads back clean.
-    auto single = plan_single(part, machine, process, options);
-    if (single) {
-      PlanPartResult alt;
-      alt.plan = std::move(single.value().plan);
-      alt.strategy_used = Strategy::kSingle;
-      if (program_of(machine, process, options, alt) && relieve(machine, process, options, alt) && alt.check.collisions == 0 &&
-          alt.check.mid_air_regions.empty()) {
-        const std::string why =
-            !made     ? fmt::format("the decomposition's program cannot be written: {}", made.error().message)
-            : mid_air ? fmt::format("read back, the decomposition's region {} starts in mid-air", out.check.mid_air_regions.front())
-                      : fmt::format("read back, the decomposition's program strikes something at {} samples (the first: {})", out.check.collisions,
-                                    describe(out.check.collision_list.front()));
-        alt.choice = fmt::format("one build direction ({} mm2 unsupported): {}", area_text(alt.plan.unsupported_area_mm2), why);
-        alt.warnings = {fmt::format("one build direction was chosen because {}", why)};
-        out = std::move(alt);
-        made = {};
-      }
+    if (auto clean = clean_program(plan_single(part, machine, process, options), Strategy::kSingle, machine, process, options)) {
+      PlanPartResult& alt = *clean;
+      const std::string why =
+          !made     ? fmt::format("the decomposition's program cannot be written: {}", made.error().message)
+          : mid_air ? fmt::format("read back, the decomposition's region {} starts in mid-air", out.check.mid_air_regions.front())
+                    : fmt::format("read back, the decomposition's program strikes something at {} samples (the first: {})", out.check.collisions,
+                                  describe(out.check.collision_list.front()));
+      alt.choice = fmt::format("one build direction ({} mm2 unsupported): {}", area_text(alt.plan.unsupported_area_mm2), why);
+      alt.warnings = {fmt::format("one build direction was chosen because {}", why)};
+      out = std::move(alt);
+      made = {};
     }
   }
   if (!made) return made.error();
