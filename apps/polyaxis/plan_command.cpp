@@ -141,9 +141,11 @@ int run_plan(PlanCommandOptions& o) {
     o.strategy = "decompose";
   }
   opt.plan.layers = o.layers == "planar" ? planner::LayerChoice::kPlanar
-                    : o.layers == "tilted" ? planner::LayerChoice::kTilted : planner::LayerChoice::kAuto;
-  if (o.no_tilt && opt.plan.layers == planner::LayerChoice::kTilted) {
-    return report_error(core::make_error(core::ErrorCode::kUsage, "--layers tilted turns the torch with each layer; it contradicts --no-tilt"));
+                    : o.layers == "tilted"    ? planner::LayerChoice::kTilted
+                    : o.layers == "conformal" ? planner::LayerChoice::kConformal
+                                              : planner::LayerChoice::kAuto;
+  if (o.no_tilt && (opt.plan.layers == planner::LayerChoice::kTilted || opt.plan.layers == planner::LayerChoice::kConformal)) {
+    return report_error(core::make_error(core::ErrorCode::kUsage, fmt::format("--layers {} turns the torch with each layer; it contradicts --no-tilt", o.layers)));
   }
   opt.strategy = o.strategy == "single" ? planner::Strategy::kSingle
                  : o.strategy == "decompose" ? planner::Strategy::kDecompose : planner::Strategy::kAuto;
@@ -157,6 +159,10 @@ int run_plan(PlanCommandOptions& o) {
   if (!configs) return report_error(configs.error());
   const machine::MachineConfig& machine = configs.value().machine;
   const process::ProcessConfig& process = configs.value().process;
+  if (opt.plan.layers == planner::LayerChoice::kConformal && o.substrate.empty() && opt.prebuilt.empty()) {
+    return report_error(core::make_error(core::ErrorCode::kUsage,
+                                         "--layers conformal: the layers follow a prebuilt part's surface; give one with --substrate or --prebuilt"));
+  }
   if (!o.substrate.empty() && !opt.prebuilt.empty()) {
     return report_error(core::make_error(core::ErrorCode::kUsage, "--substrate gives the prebuilt part as its own mesh; it contradicts --prebuilt"));
   }
@@ -228,9 +234,10 @@ Runner add_plan_command(CLI::App& app) {
   cmd->add_flag("--decompose", o->decompose, "Same as --strategy decompose");
   cmd->add_option("--layers", o->layers,
                   "planar: parallel planes along each region's direction (adaptive thickness); tilted: \"3-D\" layers turning with the "
-                  "region's centroidal axis, thickness kept in the process's range; auto: per region, tilted where they leave less "
-                  "overhang than planar ones")
-      ->capture_default_str()->check(CLI::IsMember({"planar", "tilted", "auto"}));
+                  "region's centroidal axis, thickness kept in the process's range; conformal: curved layers at even distances from the "
+                  "prebuilt part's surface (--substrate or --prebuilt), the torch along the distance's gradient; auto: per region, "
+                  "tilted or conformal where they leave less overhang than planar ones")
+      ->capture_default_str()->check(CLI::IsMember({"planar", "tilted", "conformal", "auto"}));
   cmd->add_option("--decompose-budget", o->part_plan.decompose_budget_facet_visits,
                   "Work a decomposition may do, in facet visits (a few seconds by default); 0: no limit")
       ->capture_default_str()->check(CLI::Range(0.0, 1e15));

@@ -1,6 +1,7 @@
 #include "polyaxis/planner/plan.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
@@ -9,6 +10,7 @@
 #include <set>
 
 #include "polyaxis/geom2d/clip.h"
+#include "polyaxis/mesh/distance.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/planner/plan_part.h"
 #include "polyaxis/slicing/section.h"
@@ -163,6 +165,20 @@ core::Status first_deposit_on_plate(const Plan& plan, const process::ProcessConf
 
 bool has_prebuilt(const std::vector<PlanRegion>& regions) {
   return std::any_of(regions.begin(), regions.end(), [](const PlanRegion& r) { return r.prebuilt; });
+}
+
+// The surface of REGIONS' prebuilt ones (placed), the base of conformal layers: null when there are
+// none, or when LAYERS asks for neither conformal nor automatic layers.
+std::shared_ptr<const mesh::SurfaceDistance> prebuilt_surface(const std::vector<PlanRegion>& regions, LayerChoice layers) {
+  if (!has_prebuilt(regions) || (layers != LayerChoice::kConformal && layers != LayerChoice::kAuto)) return nullptr;
+  mesh::Mesh all;
+  for (const PlanRegion& r : regions) {
+    if (!r.prebuilt) continue;
+    const auto offset = static_cast<std::uint32_t>(all.vertices.size());
+    all.vertices.insert(all.vertices.end(), r.mesh.vertices.begin(), r.mesh.vertices.end());
+    for (io::Triangle t : r.mesh.triangles) all.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  }
+  return std::make_shared<const mesh::SurfaceDistance>(all);
 }
 
 // A prebuilt region's parent and the regions it rests on are prebuilt too: a region cannot be on
@@ -374,23 +390,59 @@ slicing::SliceOptions tilted_options(const PlanRegion& region, const machine::Ma
   return slice;
 }
 
-// REGION's layers by OPTIONS.layers; for kAuto the planar ones unless they leave overhang
-// (slicing::overhang_estimate_mm2 with the step a tilted torch may take) and the tilted ones leave
-// less. Sets the region's layers, layers_rule and layers_why.
-core::Result<slicing::SliceResult> region_layers(PlanRegion& region, const mesh::EdgeTopology* topology, const machine::MachineConfig& machine,
-                                                 const process::ProcessConfig& process, const PlanOptions& options) {
-  const bool rotary = machine::has_rotary_axes(machine.kind);
-  if (options.layers == LayerChoice::kTilted && !rotary) {
+// The options of REGION's conformal slicing: levels of the distance from BASE (the prebuilt part's
+// surface) at the process's step within its range, on the region refined to kConformalEdgeBeads.
+slicing::SliceOptions conformal_options(const PlanRegion& region, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                        const PlanOptions& options, std::shared_ptr<const mesh::SurfaceDistance> base) {
+  slicing::SliceOptions slice = region_slice_options(region, machine, process, options);
+  slice.limits = {};
+  slice.conformal_base = std::move(base);
+  slice.conformal_edge_mm = kConformalEdgeBeads * process.bead_width_mm;
+  return slice;
+}
+
+// Checks that --layers LAYERS can be made on MACHINE with OPTIONS (kUsage otherwise).
+core::Status check_layer_choice(const machine::MachineConfig& machine, const PlanOptions& options, bool has_base) {
+  if (options.layers != LayerChoice::kTilted && options.layers != LayerChoice::kConformal) return {};
+  const char* name = layer_choice_name(options.layers);
+  if (!machine::has_rotary_axes(machine.kind)) {
     return core::make_error(core::ErrorCode::kUsage,
-                            fmt::format("--layers tilted: machine '{}' has no rotary axes to turn the torch with the layers", machine.name));
+                            fmt::format("--layers {}: machine '{}' has no rotary axes to turn the torch with the layers", name, machine.name));
   }
-  if (options.layers == LayerChoice::kTilted && !options.tilt_on_overhang) {
-    return core::make_error(core::ErrorCode::kUsage, "--layers tilted turns the torch with each layer; it contradicts --no-tilt");
+  if (!options.tilt_on_overhang) {
+    return core::make_error(core::ErrorCode::kUsage, fmt::format("--layers {} turns the torch with each layer; it contradicts --no-tilt", name));
   }
+  if (options.layers == LayerChoice::kConformal && !has_base) {
+    return core::make_error(core::ErrorCode::kUsage,
+                            "--layers conformal: the layers follow a prebuilt part's surface; give one with --substrate or --prebuilt");
+  }
+  return {};
+}
+
+// REGION's layers by OPTIONS.layers. kAuto: the planar ones unless they leave overhang
+// (slicing::overhang_estimate_mm2 with the step a tilted torch may take) and conformal layers on
+// BASE (when there is a prebuilt part) or tilted ones leave less than kTiltedGainShare of it, the
+// one that leaves less. A conformal slicing the region cannot take (it does not rest on the base,
+// or a level folds over along its direction) leaves it planar, and says why. Sets the region's
+// layers, layers_rule and layers_why.
+core::Result<slicing::SliceResult> region_layers(PlanRegion& region, const mesh::EdgeTopology* topology, const machine::MachineConfig& machine,
+                                                 const process::ProcessConfig& process, const PlanOptions& options,
+                                                 const std::shared_ptr<const mesh::SurfaceDistance>& base) {
+  if (auto s = check_layer_choice(machine, options, base != nullptr); !s) return s.error();
+  const bool rotary = machine::has_rotary_axes(machine.kind);
   if (options.layers != LayerChoice::kAuto) {
-    region.layers = options.layers == LayerChoice::kTilted ? slicing::LayerStrategy::kTilted : slicing::LayerStrategy::kPlanar;
+    region.layers = options.layers == LayerChoice::kTilted      ? slicing::LayerStrategy::kTilted
+                    : options.layers == LayerChoice::kConformal ? slicing::LayerStrategy::kConformal
+                                                                : slicing::LayerStrategy::kPlanar;
     region.layers_rule = kLayersAsked;
     region.layers_why = fmt::format("--layers {}", layer_choice_name(options.layers));
+    if (region.layers == slicing::LayerStrategy::kConformal) {
+      auto conformal = slicing::slice(region.mesh, conformal_options(region, machine, process, options, base), topology);
+      if (conformal || conformal.error().code != core::ErrorCode::kInfeasible) return conformal;
+      region.layers = slicing::LayerStrategy::kPlanar;
+      region.layers_why = fmt::format("--layers conformal refused, planar layers: {}", conformal.error().message);
+      return slicing::slice(region.mesh, planar_options(region, machine, process, options), topology);
+    }
     const auto o = region.layers == slicing::LayerStrategy::kTilted ? tilted_options(region, machine, process, options)
                                                                      : planar_options(region, machine, process, options);
     return slicing::slice(region.mesh, o, topology);
@@ -407,24 +459,36 @@ core::Result<slicing::SliceResult> region_layers(PlanRegion& region, const mesh:
                                                            : "planar layers: the torch stays along the build direction (--no-tilt)";
     return planar;
   }
+  slicing::SliceResult best = std::move(planar.value());
+  double best_mm2 = planar_mm2;
+  std::vector<std::string> figures{fmt::format("overhang {} mm2 on planar layers", area_text(planar_mm2))};
+  auto consider = [&](slicing::LayerStrategy strategy, const slicing::SliceOptions& o, const char* rule) -> core::Status {
+    const char* name = slicing::layer_strategy_name(strategy);
+    auto layers = slicing::slice(region.mesh, o, topology);
+    if (!layers && layers.error().code == core::ErrorCode::kInfeasible) {
+      figures.push_back(fmt::format("{} layers refused: {}", name, layers.error().message));
+      return {};
+    }
+    if (!layers) return layers.error();
+    const double mm2 = slicing::overhang_estimate_mm2(layers.value(), process.self_supporting_deg, step);
+    figures.push_back(fmt::format("{} mm2 on {} layers", area_text(mm2), name));
+    if (mm2 < kTiltedGainShare * planar_mm2 && mm2 < best_mm2) {
+      best = std::move(layers.value()), best_mm2 = mm2;
+      region.layers = strategy, region.layers_rule = rule;
+    }
+    return {};
+  };
+  if (base) {
+    if (auto s = consider(slicing::LayerStrategy::kConformal, conformal_options(region, machine, process, options, base), kLayersConformal); !s) {
+      return s.error();
+    }
+  }
   slicing::SliceOptions tilted_slice = tilted_options(region, machine, process, options);
-  tilted_slice.give_up_overhang_mm2 = kTiltedGainShare * planar_mm2;  // beyond it the tilted layers cannot be kept
-  auto tilted = slicing::slice(region.mesh, tilted_slice, topology);
-  if (!tilted && tilted.error().code == core::ErrorCode::kInfeasible) {
-    region.layers_why = fmt::format("overhang {} mm2 on planar layers; tilted layers refused: {}", area_text(planar_mm2), tilted.error().message);
-    return planar;
-  }
-  if (!tilted) return tilted;
-  const double tilted_mm2 = slicing::overhang_estimate_mm2(tilted.value(), process.self_supporting_deg, step);
-  const std::string figures = fmt::format("overhang {} mm2 on tilted layers, {} mm2 on planar", area_text(tilted_mm2), area_text(planar_mm2));
-  if (tilted_mm2 < kTiltedGainShare * planar_mm2) {
-    region.layers = slicing::LayerStrategy::kTilted;
-    region.layers_rule = kLayersTilted;
-    region.layers_why = figures;
-    return tilted;
-  }
-  region.layers_why = figures + ": tilted layers do no better";
-  return planar;
+  tilted_slice.give_up_overhang_mm2 = std::min(best_mm2, kTiltedGainShare * planar_mm2);  // beyond it the tilted layers cannot be kept
+  if (auto s = consider(slicing::LayerStrategy::kTilted, tilted_slice, kLayersTilted); !s) return s.error();
+  region.layers_why = fmt::format("{}", fmt::join(figures, ", "));
+  if (region.layers == slicing::LayerStrategy::kPlanar) region.layers_why += ": no other layers do better";
+  return best;
 }
 
 // Where a prebuilt part rises within the process's least thickness under a layer's top, the layer
@@ -441,7 +505,8 @@ void trim_over_prebuilt(slicing::SliceResult& layers, const std::vector<PlanRegi
   std::vector<std::uint32_t> candidates;
   slicing::SectionScratch scratch;
   for (slicing::Layer& layer : layers.layers) {
-    if (core::dot(layer.frame.d, d) < 1.0 - 1e-12 || layer.polygons.empty()) continue;
+    // Conformal layers keep their distance from the prebuilt part by construction.
+    if (layer.conformal || core::dot(layer.frame.d, d) < 1.0 - 1e-12 || layer.polygons.empty()) continue;
     const double h = layer.height_mm + layer.above_mm - min_mm;
     std::vector<geom2d::Ring> under;
     for (const auto& ctx : contexts) {
@@ -463,9 +528,10 @@ void trim_over_prebuilt(slicing::SliceResult& layers, const std::vector<PlanRegi
 // its prebuilt ones (trim_over_prebuilt). TOPOLOGY: the whole part's, for an undivided part (null
 // otherwise).
 core::Status add_region(Plan& plan, PlanRegion& region, const std::vector<PlanRegion>& regions, const mesh::EdgeTopology* topology,
-                        const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanOptions& options) {
+                        const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanOptions& options,
+                        const std::shared_ptr<const mesh::SurfaceDistance>& base) {
   auto t0 = Clock::now();
-  auto layers = region_layers(region, topology, machine, process, options);
+  auto layers = region_layers(region, topology, machine, process, options, base);
   if (!layers) return layers.error();
   trim_over_prebuilt(layers.value(), regions, region, process.layer_min_mm);
   plan.times.slice_s += since(t0);
@@ -508,6 +574,7 @@ const char* layer_choice_name(LayerChoice c) {
   switch (c) {
     case LayerChoice::kPlanar: return "planar";
     case LayerChoice::kTilted: return "tilted";
+    case LayerChoice::kConformal: return "conformal";
     case LayerChoice::kAuto: return "auto";
   }
   return "?";
@@ -574,10 +641,13 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   }
   if (auto s = place_checks(regions, machine, process, plan); !s) return s.error();
   plan.regions = static_cast<std::uint32_t>(regions.size());
+  const std::shared_ptr<const mesh::SurfaceDistance> base = prebuilt_surface(regions, options.layers);
   for (PlanRegion& region : regions) {
     if (region.prebuilt) continue;
     // The whole part's topology is valid only for the unsplit part.
-    if (auto st = add_region(plan, region, regions, given_regions.empty() ? &part.topology : nullptr, machine, process, options); !st) return st.error();
+    if (auto st = add_region(plan, region, regions, given_regions.empty() ? &part.topology : nullptr, machine, process, options, base); !st) {
+      return st.error();
+    }
   }
   plan.placed_regions = regions;
   if (plan.layers.layers.empty()) {

@@ -173,6 +173,19 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
       }
     }
     std::vector<geom2d::Polygon> pieces;
+    if (ls[k].conformal) {
+      // Conformal layers: the footprints on the base (slicing::ConformalLayer); the first stands on
+      // the base, every point of it its level from the base along the gradient.
+      if (first) continue;
+      const slicing::Layer& under = ls[below_k];
+      slicing::Layer foot = ls[k];
+      foot.polygons = foot.conformal->footprint;
+      const double area = unsupported_area(under.conformal ? under.conformal->footprint : under.polygons, ls[k].thickness_range().first, foot,
+                                           toolpath::LayerToolpaths{}, alpha, bead, max_step, pieces);
+      if (area >= kUnsupportedNoiseMm2) r.unsupported_area_mm2 = area, r.unsupported = std::move(pieces);
+      plan.unsupported_area_mm2 += r.unsupported_area_mm2;
+      continue;
+    }
     double area = first ? r.area_mm2 : unsupported_area(below, t, ls[k], lt, alpha, bead, max_step, pieces);
     if (area >= kUnsupportedNoiseMm2 && region_index > 0) {
       // What the earlier regions hold one layer below this one; a prebuilt part holds up the layer

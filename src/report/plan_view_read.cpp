@@ -176,8 +176,12 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       if (r.contains("layers")) {  // plans written before tilted layers have none
         const Json& l = r.at("layers");
         const std::string strategy = l.at("strategy").get<std::string>();
-        if (strategy != "planar" && strategy != "tilted") throw std::runtime_error(fmt::format("region {}: unknown layer strategy '{}'", region.id, strategy));
-        region.layers = strategy == "tilted" ? slicing::LayerStrategy::kTilted : slicing::LayerStrategy::kPlanar;
+        if (strategy != "planar" && strategy != "tilted" && strategy != "conformal") {
+          throw std::runtime_error(fmt::format("region {}: unknown layer strategy '{}'", region.id, strategy));
+        }
+        region.layers = strategy == "tilted"      ? slicing::LayerStrategy::kTilted
+                        : strategy == "conformal" ? slicing::LayerStrategy::kConformal
+                                                  : slicing::LayerStrategy::kPlanar;
         region.layers_rule = l.at("rule").get<std::string>();
         region.layers_why = l.at("why").get<std::string>();
       }

@@ -32,6 +32,15 @@ SectionContext::SectionContext(const mesh::Mesh& mesh, Vec3 direction, const mes
   }
 }
 
+SectionContext::SectionContext(const mesh::Mesh& mesh, Vec3 direction, std::vector<double> field, const mesh::EdgeTopology* topology)
+    : mesh_(mesh), topology_(topology), d_(core::normalized(direction)), height_(std::move(field)) {
+  if (topology_ == nullptr) own_topology_ = mesh::build_topology(mesh);
+  height_.resize(mesh.vertices.size(), 0.0);
+  min_ = INFINITY;
+  max_ = -INFINITY;
+  for (const double h : height_) min_ = std::min(min_, h), max_ = std::max(max_, h);
+}
+
 namespace {
 
 struct Segment {

@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "adaptive.h"
+#include "conformal.h"
 #include "tilted.h"
 #include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
@@ -32,7 +33,14 @@ double plane_height(double base, double t, std::int64_t k) { return base + (stat
 
 }  // namespace
 
-const char* layer_strategy_name(LayerStrategy s) { return s == LayerStrategy::kTilted ? "tilted" : "planar"; }
+const char* layer_strategy_name(LayerStrategy s) {
+  switch (s) {
+    case LayerStrategy::kTilted: return "tilted";
+    case LayerStrategy::kConformal: return "conformal";
+    case LayerStrategy::kPlanar: break;
+  }
+  return "planar";
+}
 
 double overhang_estimate_mm2(const SliceResult& slices, double alpha_deg, double step_mm) {
   constexpr double kParallelCos = 1.0 - 1e-12;
@@ -41,6 +49,11 @@ double overhang_estimate_mm2(const SliceResult& slices, double alpha_deg, double
   const std::vector<Layer>& ls = slices.layers;
   for (std::size_t k = 1; k < ls.size(); ++k) {
     const Layer &a = ls[k - 1], &b = ls[k];
+    if (a.conformal && b.conformal) {  // footprints on the base (Layer::conformal), the torch along the gradient
+      const auto grown = geom2d::offset(a.conformal->footprint, b.thickness_range().first * tan_a);
+      total += geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of(b.conformal->footprint), geom2d::rings_of(grown)));
+      continue;
+    }
     const bool parallel = core::dot(a.frame.d, b.frame.d) >= kParallelCos;
     const std::vector<geom2d::Polygon> under = parallel ? a.polygons : project(a.polygons, a.frame, b.frame);
     const double t = parallel ? b.height_mm - a.height_mm : b.thickness_range().first;
@@ -54,8 +67,11 @@ core::Status validate(const SliceOptions& o) {
   if (!core::is_finite(o.direction) || core::norm(o.direction) < 1e-12) {
     return make_error(ErrorCode::kUsage, "--dir: the direction must be a finite non-zero vector");
   }
+  if (o.conformal_base && (o.conformal_base->empty() || !finite_positive(o.conformal_edge_mm))) {
+    return make_error(ErrorCode::kUsage, "conformal layers: the base surface has no faces");
+  }
   if (!o.adaptive && !o.tilted && !finite_positive(o.layer_mm)) return make_error(ErrorCode::kUsage, "--layer: must be a finite number > 0");
-  if (o.adaptive || o.tilted) {
+  if (o.adaptive || o.tilted || o.conformal_base) {
     if (!finite_positive(o.min_mm)) return make_error(ErrorCode::kUsage, "--min: must be a finite number > 0");
     if (!finite_positive(o.max_mm)) return make_error(ErrorCode::kUsage, "--max: must be a finite number > 0");
     if (o.min_mm > o.max_mm) {
@@ -88,6 +104,7 @@ core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& opti
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
   }
   if (options.tilted) return detail::slice_tilted(mesh, options, topology);
+  if (options.conformal_base) return detail::slice_conformal(mesh, options);
   const SectionContext ctx(mesh, options.direction, topology);
   if (options.adaptive) return detail::slice_adaptive(ctx, options);
 

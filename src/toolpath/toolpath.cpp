@@ -16,6 +16,7 @@
 #include <numeric>
 #include <optional>
 
+#include "drape.h"
 #include "overhang.h"
 #include "polyaxis/core/progress.h"
 #include "polyaxis/mesh/topology.h"
@@ -347,7 +348,8 @@ core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh,
 
   // Faces crossing each layer's plane (face_min < h <= face_max, the tie rule of section.h), by a
   // counting sort over the layers in height order.
-  const bool tilt = options.tilt_on_overhang && !mesh.triangles.empty();
+  // Conformal layers take the distance's gradient as their axes (drape.h): no overhang tilt.
+  const bool tilt = options.tilt_on_overhang && !mesh.triangles.empty() && !slices.conformal_base;
   std::optional<slicing::SectionContext> ctx;
   std::vector<std::uint32_t> start, bucket, slot_of_layer(layers.size());
   const mesh::EdgeTopology topology = tilt && !shared ? mesh::build_topology(mesh) : mesh::EdgeTopology{};
@@ -384,6 +386,7 @@ core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh,
 
   core::Progress progress("toolpaths", layers.size());
   std::atomic<std::uint64_t> done{0};
+  std::vector<std::string> failed(slices.conformal_base ? layers.size() : 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layers.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
       std::optional<detail::FacetLocator> facets;
@@ -402,10 +405,14 @@ core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh,
         facets.emplace(*own, h, layers[i].frame, own_faces);
       }
       result[i] = LayerPlanner(mesh, options, layers[i], facets ? &*facets : nullptr).run();
+      if (slices.conformal_base) failed[i] = detail::drape(*slices.conformal_base, layers[i], kDrapeStepBeads * options.bead_width_mm, result[i]);
     }
     done += r.size();
     if (tbb::this_task_arena::current_thread_index() == 0) progress.update(done);
   });
+  for (const std::string& f : failed) {
+    if (!f.empty()) return core::make_error(core::ErrorCode::kInfeasible, f);
+  }
   return result;
 }
 

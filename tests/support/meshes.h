@@ -233,6 +233,52 @@ inline RawMesh spherical_cap(double r, double h, std::uint32_t n, std::uint32_t 
   return mesh;
 }
 
+// A piece of a thick spherical shell: the solid between the spheres of radii R_IN < R_OUT about
+// CENTRE within the polar angle THETA_DEG (< 90) of +Z, its rim a cone through the centre; N
+// segments around, M rings from the pole. Each face is turned to face away from the solid.
+inline RawMesh shell_patch(core::Vec3 centre, double r_in, double r_out, double theta_deg, std::uint32_t n, std::uint32_t m) {
+  const double two_pi = 2.0 * 3.14159265358979323846, theta = theta_deg * 3.14159265358979323846 / 180.0;
+  RawMesh mesh;
+  auto dir = [&](double phi, double t) { return core::Vec3{std::sin(phi) * std::cos(t), std::sin(phi) * std::sin(t), std::cos(phi)}; };
+  // Sphere s (0 inner, 1 outer): the pole, then rings k = 1..m.
+  for (const double r : {r_in, r_out}) {
+    mesh.points.push_back(centre + core::Vec3{0, 0, r});
+    for (std::uint32_t k = 1; k <= m; ++k) {
+      for (std::uint32_t i = 0; i < n; ++i) {
+        mesh.points.push_back(centre + dir(theta * k / m, two_pi * i / n) * r);
+      }
+    }
+  }
+  const std::uint32_t per = 1 + n * m;
+  auto id = [&](std::uint32_t s, std::uint32_t k, std::uint32_t i) { return s * per + (k == 0 ? 0 : 1 + (k - 1) * n + i % n); };
+  auto at = [&](std::uint32_t v) { return mesh.points[v]; };
+  // Adds A B C turned so its normal points along OUT(centroid).
+  auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, auto out) {
+    const core::Vec3 pa = at(a), pb = at(b), pc = at(c);
+    if (core::dot(core::cross(pb - pa, pc - pa), out((pa + pb + pc) / 3.0)) < 0.0) std::swap(b, c);
+    mesh.triangles.push_back({a, b, c});
+  };
+  for (std::uint32_t s = 0; s < 2; ++s) {
+    auto out = [&](core::Vec3 q) { return s == 1 ? q - centre : centre - q; };
+    for (std::uint32_t i = 0; i < n; ++i) add(id(s, 0, 0), id(s, 1, i), id(s, 1, i + 1), out);
+    for (std::uint32_t k = 1; k < m; ++k) {
+      for (std::uint32_t i = 0; i < n; ++i) {
+        add(id(s, k, i), id(s, k, i + 1), id(s, k + 1, i + 1), out);
+        add(id(s, k, i), id(s, k + 1, i + 1), id(s, k + 1, i), out);
+      }
+    }
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    auto out = [&](core::Vec3 q) {  // along the polar angle, away from the axis: e_t × e_r
+      const core::Vec3 r = core::normalized(q - centre);
+      return core::cross(core::cross(core::Vec3{0, 0, 1}, r), r);
+    };
+    add(id(0, m, i), id(0, m, i + 1), id(1, m, i + 1), out);
+    add(id(0, m, i), id(1, m, i + 1), id(1, m, i), out);
+  }
+  return mesh;
+}
+
 // Appends B to A (indices shifted).
 inline RawMesh join(RawMesh a, const RawMesh& b) {
   const auto offset = static_cast<std::uint32_t>(a.points.size());

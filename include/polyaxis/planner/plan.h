@@ -24,17 +24,24 @@ namespace polyaxis::planner {
 using core::Vec3;
 
 // How a region's layers are made (--layers): parallel planes with adaptive thickness, tilted
-// "3-D" layers along the region's centroidal axis (slicing::SliceOptions::tilted), or, per region,
-// the one the support check favours (choose_layers in plan.cpp).
-enum class LayerChoice { kPlanar, kTilted, kAuto };
+// "3-D" layers along the region's centroidal axis (slicing::SliceOptions::tilted), conformal layers
+// at even distances from the prebuilt part's surface (slicing/conformal.h; regions built onto a
+// --substrate or --prebuilt part), or, per region, the one the support check favours
+// (region_layers in plan.cpp).
+enum class LayerChoice { kPlanar, kTilted, kConformal, kAuto };
 const char* layer_choice_name(LayerChoice c);
 
 // Why a region's layers are what they are (PlanRegion::layers_rule).
-inline constexpr const char* kLayersAsked = "layers.asked";      // --layers planar|tilted
+inline constexpr const char* kLayersAsked = "layers.asked";      // --layers planar|tilted|conformal
 inline constexpr const char* kLayersPlanar = "layers.planar";    // auto: planar layers leave no overhang, or tilted ones do no better
 inline constexpr const char* kLayersTilted = "layers.tilted";    // auto: tilted layers leave less overhang than planar ones
-// Auto layers: tilted layers are kept when they leave less than this share of the planar layers' overhang.
+inline constexpr const char* kLayersConformal = "layers.conformal";  // auto: conformal layers leave less overhang than planar ones
+// Auto layers: tilted or conformal layers are kept when they leave less than this share of the
+// planar layers' overhang (the one of the two that leaves less).
 inline constexpr double kTiltedGainShare = 0.5;
+// Conformal layers: the region is refined to edges of at most this many bead widths before its
+// levels are cut, so the distance, linear over each face, follows the curved levels.
+inline constexpr double kConformalEdgeBeads = 0.5;
 
 struct PlanOptions {
   Vec3 direction{0, 0, 1};   // build direction in the part's frame

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -28,6 +29,21 @@ struct Frame {
 // (the Y axis when d is within ~25° of X), v = d × u. For d = +Z this is the world frame.
 Frame plane_frame(Vec3 direction, double height_mm);
 
+// A conformal layer (conformal.h) is a curved surface: the level set at LEVEL_MM of the distance from
+// a base surface. Its Layer keeps the section projected along d onto the frame's plane (the plane
+// through the middle of the surface's span along d), so the planar machinery (offsets, fill,
+// support) works on the projection; the toolpaths are then lifted onto the surface.
+struct ConformalLayer {
+  double level_mm = 0.0;              // the mid-surface's distance from the base
+  double low_mm = 0.0, high_mm = 0.0; // the mid-surface's lowest and highest height along d (sampled)
+  std::vector<std::vector<Vec3>> contours;  // the section's rings on the surface, world frame, closed implicitly
+  // The section carried down the gradient onto the base (each contour point less level_mm along
+  // its tool axis: the distance's gradient lines are straight and normal to the base), projected
+  // along d, in the frame's (u, v). Layer k holds layer k+1 where their footprints overlap: the
+  // support check compares footprints, as it compares planar layers' sections.
+  std::vector<geom2d::Polygon> footprint;
+};
+
 struct Layer {
   std::uint32_t index = 0;
   Frame frame;              // the section plane (the layer's mid-plane)
@@ -42,6 +58,9 @@ struct Layer {
   // and below/above hold half the thickness on the region's axis. Both 0 for a layer parallel to
   // the one below (the planar slicers): see thickness_range().
   double min_thickness_mm = 0.0, max_thickness_mm = 0.0;
+  // Conformal layers only: the surface (height_mm is the middle of its span, below/above hold half
+  // the thickness measured along the field's gradient, which is uniform).
+  std::optional<ConformalLayer> conformal;
 
   double thickness_mm() const { return below_mm + above_mm; }
   // The least and largest thickness over the layer.

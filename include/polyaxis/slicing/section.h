@@ -33,6 +33,11 @@ class SectionContext {
   // (mesh::repair output). TOPOLOGY: the mesh's edge adjacency when the caller has it (repair
   // does), else it is built here. Cost: O(V + F).
   SectionContext(const mesh::Mesh& mesh, Vec3 direction, const mesh::EdgeTopology* topology = nullptr);
+  // A context whose heights are FIELD's values at the vertices (one per vertex of MESH) instead of
+  // p·d: its sections are the level sets of the field, linear over each face, projected along
+  // DIRECTION onto the frame's plane (conformal layers, conformal.h). Outer loops run
+  // counter-clockwise about DIRECTION where the field grows along it.
+  SectionContext(const mesh::Mesh& mesh, Vec3 direction, std::vector<double> field, const mesh::EdgeTopology* topology = nullptr);
 
   const mesh::Mesh& mesh() const { return mesh_; }
   const mesh::EdgeTopology& topology() const { return topology_ ? *topology_ : own_topology_; }

@@ -1,11 +1,13 @@
 // Planar slicing along any direction: uniform or adaptive layer thickness.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "polyaxis/core/result.h"
+#include "polyaxis/mesh/distance.h"
 #include "polyaxis/mesh/mesh.h"
 #include "polyaxis/mesh/topology.h"
 #include "polyaxis/slicing/layer.h"
@@ -46,6 +48,11 @@ struct SliceOptions {
   // this overhang (mm², as overhang_estimate_mm2 counts it): a caller comparing with planar layers
   // stops once tilted ones can no longer win.
   std::optional<double> give_up_overhang_mm2;
+  // Conformal layers (conformal.h) when set: level sets of the distance from this surface, a
+  // thickness in [min_mm, max_mm] as near layer_mm as divides the part's farthest distance evenly,
+  // the sections projected along DIRECTION. The mesh is refined to edges of conformal_edge_mm first.
+  std::shared_ptr<const mesh::SurfaceDistance> conformal_base;
+  double conformal_edge_mm = 1.0;
 };
 
 struct SliceResult {
@@ -54,10 +61,13 @@ struct SliceResult {
   std::uint32_t limit_violations = 0;  // adaptive layers where no thickness met every limit
   double total_area_mm2 = 0.0;
   double volume_estimate_mm3 = 0.0;    // Σ area × thickness
+  // Conformal layers: the base surface their levels are measured from (toolpaths are lifted onto
+  // them through it, conformal.h lift()); null for planar and tilted layers.
+  std::shared_ptr<const mesh::SurfaceDistance> conformal_base;
 };
 
-// The strategies a region's layers can take (SliceOptions::tilted; conformal layers are not built yet).
-enum class LayerStrategy { kPlanar, kTilted };
+// The strategies a region's layers can take (SliceOptions::tilted, SliceOptions::conformal_base).
+enum class LayerStrategy { kPlanar, kTilted, kConformal };
 const char* layer_strategy_name(LayerStrategy s);
 
 // The area of every layer beyond the layer below it (projected along the layer's normal when the

@@ -33,6 +33,11 @@ inline constexpr double kThinMinAreaBeads2 = 0.25;
 // nanometre slivers left by rounding offsets to the 1 nm grid are not counted as pieces.
 inline constexpr double kThinSlackMm = 1e-3;
 
+// On conformal layers the paths, made on the layer's projection, are cut into moves no longer than
+// this many bead widths before they are lifted onto the curved surface (a chord of c mm over a
+// surface of radius R mm sags c²/8R: 0.025 mm for a 2 mm bead's 1 mm on R = 5 mm).
+inline constexpr double kDrapeStepBeads = 0.5;
+
 struct PathPoint {
   Vec3 position_mm;  // world (part) frame, on the layer's plane (its mid-plane), mm
   Vec3 tool_axis;    // unit, from the tool tip up the nozzle
@@ -134,6 +139,10 @@ core::Status validate(const ToolpathOptions& options);
 // flipped if t·d < 0 (not expected on a closed outward mesh) and limited to kMaxTiltRad from d.
 // Closed paths give their last point (the repeated first) the first point's axis; travel points
 // take the axes of the points they join.
+//
+// Conformal layers (LAYERS.conformal_base set, slicing/conformal.h): the paths are made on each
+// layer's projection as above, then carried onto its surface, their axes the distance's gradient
+// (no overhang tilt); kInfeasible when a deposit point cannot be lifted.
 //
 // Layers run in parallel (oneTBB); the output is the same at any thread count. Layers of one
 // direction share the facet buckets; tilted layers (each its own direction) find their facets
