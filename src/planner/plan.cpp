@@ -557,6 +557,7 @@ core::Status add_region(Plan& plan, PlanRegion& region, const std::vector<PlanRe
     plan.layers.layers.push_back(std::move(l));
     plan.region_of_layer.push_back(region.id);
   }
+  if (layers.value().conformal_base) plan.layers.conformal_base = layers.value().conformal_base;
   plan.layers.open_chains += layers.value().open_chains;
   plan.layers.total_area_mm2 += layers.value().total_area_mm2;
   plan.layers.volume_estimate_mm3 += layers.value().volume_estimate_mm3;
@@ -667,7 +668,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   t0 = Clock::now();
   double deposited_volume = 0.0;
   for (const PlanRegion& r : regions) deposited_volume += r.prebuilt ? 0.0 : std::abs(mesh::signed_volume(r.mesh));
-  detail::measure_fidelity(plan, deposited_volume);
+  detail::measure_fidelity(plan, deposited_volume, kConformalEdgeBeads * process.bead_width_mm);
   plan.times.fidelity_s = since(t0);
   // On a prebuilt part the first bead rests on its surface (the read-back check judges that).
   if (!has_prebuilt(regions)) {

@@ -32,6 +32,7 @@ CContour grow(const slicing::Layer& layer, double head_radius_mm) {
   CContour c;
   c.frame = layer.frame;
   c.low = layer.height_mm - layer.below_mm, c.high = layer.height_mm + layer.above_mm;
+  if (layer.conformal) c.low = layer.conformal->low_mm - layer.below_mm, c.high = layer.conformal->high_mm + layer.above_mm;  // the curved slab
   const std::vector<geom2d::Polygon> grown = geom2d::offset(layer.polygons, head_radius_mm);
   c.integer_rings = geom2d::rings_of(grown);
   c.area_mm2 = geom2d::area_mm2(grown);

@@ -144,7 +144,11 @@ PlanView make_plan_view(const planner::Plan& plan, const machine::MachineConfig&
     v.paths = r.paths;
     if (k < plan.order.size()) v.order = plan.order[k];
     v.tilt_rule = r.tilt_rule, v.tilted_points = r.tilted_points, v.turned_points = r.turned_points, v.eased_points = r.eased_points;
-    add_rings(l.polygons, l.frame, v.contours);
+    if (l.conformal) {
+      v.contours = l.conformal->contours;  // on the curved layer
+    } else {
+      add_rings(l.polygons, l.frame, v.contours);
+    }
     add_rings(r.unsupported, l.frame, v.unsupported);
   }
   view.program = plan.program;
