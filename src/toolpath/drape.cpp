@@ -2,13 +2,19 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "polyaxis/geom2d/clip.h"
 #include "polyaxis/slicing/conformal.h"
 
 namespace polyaxis::toolpath::detail {
 
 namespace {
+
+constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+// Consecutive draped points nearer than this are one (mm).
+constexpr double kSamePointMm = 1e-4;
 
 // PATH's points with every move cut into pieces no longer than STEP_MM; a new point takes the
 // deposit flag of the move it lies on.
@@ -32,13 +38,105 @@ std::vector<PathPoint> densified(const std::vector<PathPoint>& points, double st
 
 }  // namespace
 
-std::string drape(const mesh::SurfaceDistance& base, const slicing::Layer& layer, double step_mm, LayerToolpaths& lt) {
+SurfaceWarp::SurfaceWarp(const mesh::SurfaceDistance& base, const slicing::Layer& layer, double step_mm) : step_(step_mm) {
+  const geom2d::Centroid c = geom2d::centroid(layer.polygons);
+  cu_ = c.x, cv_ = c.y;
+  double reach = 0.0;
+  for (const geom2d::Ring& ring : geom2d::rings_of(layer.polygons)) {
+    for (const geom2d::Point& q : ring) reach = std::max(reach, std::hypot(geom2d::to_mm(q.x) - cu_, geom2d::to_mm(q.y) - cv_));
+  }
+  const auto samples = static_cast<std::size_t>(std::ceil(reach / step_)) + 2;
+  const Vec3 d = layer.frame.d;
+  length_.assign(kWarpRays, std::vector<double>(samples, 0.0));
+  for (int j = 0; j < kWarpRays; ++j) {
+    const double a = kTwoPi * j / kWarpRays, cu = std::cos(a), cv = std::sin(a);
+    double height = NAN, along = 0.0;
+    for (std::size_t i = 0; i < samples; ++i) {
+      const double r = step_ * static_cast<double>(i);
+      const Vec3 p = layer.frame.to_world(cu_ + r * cu, cv_ + r * cv);
+      const auto l = slicing::lift(base, layer, p);
+      const double h = l ? core::dot(l->point, d) : height;
+      if (i > 0) along += std::isnan(h) || std::isnan(height) ? step_ : std::hypot(step_, h - height);
+      if (!std::isnan(h)) height = h;
+      length_[static_cast<std::size_t>(j)][i] = along;
+    }
+  }
+}
+
+double SurfaceWarp::radius_at(double r, double angle) const {
+  double x = angle / kTwoPi * kWarpRays;
+  x -= std::floor(x / kWarpRays) * kWarpRays;
+  const auto j0 = static_cast<std::size_t>(x) % kWarpRays, j1 = (j0 + 1) % kWarpRays;
+  const double t = x - std::floor(x);
+  auto along = [&](const std::vector<double>& l) {
+    const double i = r / step_;
+    const auto last = l.size() - 1;
+    if (i >= static_cast<double>(last)) return l[last] + (r - step_ * static_cast<double>(last));
+    const auto i0 = static_cast<std::size_t>(i);
+    return l[i0] + (l[i0 + 1] - l[i0]) * (i - static_cast<double>(i0));
+  };
+  return along(length_[j0]) * (1.0 - t) + along(length_[j1]) * t;
+}
+
+std::array<double, 2> SurfaceWarp::forward(double u, double v) const {
+  const double du = u - cu_, dv = v - cv_, r = std::hypot(du, dv);
+  if (r == 0.0) return {u, v};
+  const double k = radius_at(r, std::atan2(dv, du)) / r;
+  return {cu_ + du * k, cv_ + dv * k};
+}
+
+std::array<double, 2> SurfaceWarp::inverse(double u, double v) const {
+  const double du = u - cu_, dv = v - cv_, rho = std::hypot(du, dv);
+  if (rho == 0.0) return {u, v};
+  const double a = std::atan2(dv, du);
+  // L grows at least as fast as r (an arc is no shorter than its chord's projection): r <= rho.
+  double lo = 0.0, hi = rho;
+  for (int it = 0; it < 60 && hi - lo > 1e-9; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (radius_at(mid, a) < rho ? lo : hi) = mid;
+  }
+  const double k = 0.5 * (lo + hi) / rho;
+  return {cu_ + du * k, cv_ + dv * k};
+}
+
+std::vector<geom2d::Polygon> SurfaceWarp::warped(const std::vector<geom2d::Polygon>& polygons) const {
+  std::vector<geom2d::Ring> rings;
+  for (const geom2d::Ring& ring : geom2d::rings_of(polygons)) {
+    geom2d::Ring out;
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const double u0 = geom2d::to_mm(ring[i].x), v0 = geom2d::to_mm(ring[i].y);
+      const double u1 = geom2d::to_mm(ring[(i + 1) % ring.size()].x), v1 = geom2d::to_mm(ring[(i + 1) % ring.size()].y);
+      const int pieces = std::max(1, static_cast<int>(std::ceil(std::hypot(u1 - u0, v1 - v0) / (0.5 * step_))));
+      for (int k = 0; k < pieces; ++k) {
+        const double t = static_cast<double>(k) / pieces;
+        const auto w = forward(u0 + (u1 - u0) * t, v0 + (v1 - v0) * t);
+        const geom2d::Point q{geom2d::to_units(w[0]), geom2d::to_units(w[1])};
+        if (out.empty() || !(out.back() == q)) out.push_back(q);
+      }
+    }
+    if (out.size() >= 3) rings.push_back(std::move(out));
+  }
+  return geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
+}
+
+std::string drape(const mesh::SurfaceDistance& base, const slicing::Layer& layer, const SurfaceWarp& warp, double step_mm, LayerToolpaths& lt) {
   lt.deposit_length_mm = lt.travel_length_mm = 0.0;
+  const slicing::Frame& f = layer.frame;
+  auto unwarped = [&](Vec3 p) {
+    const Vec3 rel = p - f.origin;
+    const auto q = warp.inverse(core::dot(rel, f.u), core::dot(rel, f.v));
+    return f.to_world(q[0], q[1]);
+  };
+  for (ThinRegion& thin : lt.thin) {
+    thin.where_mm = unwarped(thin.where_mm);
+    if (const auto l = slicing::lift(base, layer, thin.where_mm)) thin.where_mm = l->point;
+  }
   for (Path& path : lt.paths) {
     path.points = densified(path.points, step_mm);
     std::vector<char> lifted(path.points.size(), 0);
     for (std::size_t i = 0; i < path.points.size(); ++i) {
       PathPoint& p = path.points[i];
+      p.position_mm = unwarped(p.position_mm);
       if (const auto l = slicing::lift(base, layer, p.position_mm)) {
         p.position_mm = l->point, p.tool_axis = l->axis, lifted[i] = 1;
       } else if (path.kind != PathKind::kTravel) {
@@ -57,6 +155,16 @@ std::string drape(const mesh::SurfaceDistance& base, const slicing::Layer& layer
       path.points[i].position_mm = path.points[a].position_mm + (path.points[b].position_mm - path.points[a].position_mm) * t;
       path.points[i].tool_axis = core::normalized(path.points[a].tool_axis * (1.0 - t) + path.points[b].tool_axis * t);
     }
+    std::vector<PathPoint> kept;
+    kept.reserve(path.points.size());
+    for (const PathPoint& p : path.points) {
+      if (!kept.empty() && core::norm(p.position_mm - kept.back().position_mm) < kSamePointMm) {
+        kept.back().deposit = kept.back().deposit || p.deposit;
+        continue;
+      }
+      kept.push_back(p);
+    }
+    path.points = std::move(kept);
     for (std::size_t i = 1; i < path.points.size(); ++i) {
       const double len = core::norm(path.points[i].position_mm - path.points[i - 1].position_mm);
       if (path.kind == PathKind::kTravel) {

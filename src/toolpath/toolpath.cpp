@@ -404,8 +404,17 @@ core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh,
         }
         facets.emplace(*own, h, layers[i].frame, own_faces);
       }
+      if (slices.conformal_base) {
+        // Conformal: the paths are made on the section warped to the surface's lengths, then draped.
+        const double step = kDrapeStepBeads * options.bead_width_mm;
+        const detail::SurfaceWarp warp(*slices.conformal_base, layers[i], step);
+        slicing::Layer warped = layers[i];
+        warped.polygons = warp.warped(layers[i].polygons);
+        result[i] = LayerPlanner(mesh, options, warped, nullptr).run();
+        failed[i] = detail::drape(*slices.conformal_base, layers[i], warp, step, result[i]);
+        continue;
+      }
       result[i] = LayerPlanner(mesh, options, layers[i], facets ? &*facets : nullptr).run();
-      if (slices.conformal_base) failed[i] = detail::drape(*slices.conformal_base, layers[i], kDrapeStepBeads * options.bead_width_mm, result[i]);
     }
     done += r.size();
     if (tbb::this_task_arena::current_thread_index() == 0) progress.update(done);

@@ -131,8 +131,10 @@ Vec3 smallest_eigenvector(double c[3][3], double& middle) {
 }
 
 // The normal of the plane a layer's samples lie on, turned to the side of their mean tool axis;
-// for samples along one line (or fewer than three), the mean axis made square to that line.
-Vec3 layer_normal(const std::vector<Pending>& samples, double spread_mm) {
+// for samples along one line (or fewer than three), the mean axis made square to that line. CURVED
+// (when given) is set when the samples stand off that plane by more than SPREAD_MM (root mean
+// square): a curved (conformal) layer, whose normal at each sample is its tool axis.
+Vec3 layer_normal(const std::vector<Pending>& samples, double spread_mm, bool* curved = nullptr) {
   Vec3 mean, axis;
   for (const Pending& s : samples) mean = mean + s.tip, axis = axis + s.axis;
   mean = mean / static_cast<double>(samples.size());
@@ -150,6 +152,11 @@ Vec3 layer_normal(const std::vector<Pending>& samples, double spread_mm) {
   }
   double middle = 0.0;
   const Vec3 n = smallest_eigenvector(c, middle);
+  if (curved != nullptr) {
+    double off = 0.0;  // the variance along n
+    for (const Pending& s : samples) off += core::dot(s.tip - mean, n) * core::dot(s.tip - mean, n);
+    *curved = samples.size() >= 3 && off / static_cast<double>(samples.size()) > spread_mm * spread_mm;
+  }
   if (samples.size() < 3 || middle < spread_mm * spread_mm) return axis;
   return core::dot(n, axis) < 0.0 ? n * -1.0 : n;
 }
@@ -378,10 +385,13 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
   };
   auto end_layer = [&] {
     if (this_layer.empty()) return;
-    const Vec3 n = layer_normal(this_layer, spacing);
+    bool curved = false;
+    const Vec3 n = layer_normal(this_layer, spacing, &curved);
     // The grid is only read while a layer is checked: its samples in parallel.
     std::vector<char> ok(this_layer.size());
-    tbb::parallel_for(std::size_t{0}, this_layer.size(), [&](std::size_t i) { ok[i] = grounded(this_layer[i].tip, n) ? 1 : 0; });
+    tbb::parallel_for(std::size_t{0}, this_layer.size(), [&](std::size_t i) {
+      ok[i] = grounded(this_layer[i].tip, curved ? core::normalized(this_layer[i].axis) : n) ? 1 : 0;
+    });
     for (std::size_t i = 0; i < this_layer.size(); ++i) {
       if (ok[i]) continue;
       const Pending& p = this_layer[i];

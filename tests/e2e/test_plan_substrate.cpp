@@ -25,62 +25,11 @@ struct OnSubstrate {
   std::string extra;  // more options
 };
 
-struct Tip {
-  int layer = -1;
-  Vec3 tip;
-};
-
-// The end points of the process-on feed blocks of the program in DIR, through forward kinematics on
-// the default machine, with their "(layer N" comment.
-std::vector<Tip> deposit_tips(const std::filesystem::path& dir, const std::string& name) {
-  auto m = machine::parse_machine(machine::default_machine_json(), "default");
-  auto p = process::parse_process(process::default_process_json(), "default");
-  EXPECT_TRUE(m.ok() && p.ok());
-  std::istringstream in(slurp(dir / (name + ".ngc")));
-  std::string line;
-  std::array<double, 6> pos{};
-  bool on = false;
-  int layer = -1;
-  std::vector<Tip> out;
-  const std::string letters = "XYZABC";
-  while (std::getline(in, line)) {
-    if (line.rfind("(layer ", 0) == 0) layer = std::stoi(line.substr(7));
-    if (line == p.value().process_on) on = true;
-    if (line == p.value().process_off) on = false;
-    if (line.rfind("G1 ", 0) != 0) continue;
-    for (std::size_t i = 0; i < 6; ++i) {
-      if (const auto at = line.find(letters[i]); at != std::string::npos) pos[i] = std::stod(line.substr(at + 1));
-    }
-    if (on) out.push_back({layer, machine::forward(m.value(), {pos[0], pos[1], pos[2], pos[3], pos[5]}).tip_part_mm});
-  }
-  return out;
-}
-
 // The lowest deposit point of the program in DIR read back, table frame.
 double lowest_deposit_z(const std::filesystem::path& dir, const std::string& name) {
   double low = INFINITY;
   for (const Tip& t : deposit_tips(dir, name)) low = std::min(low, t.tip.z);
   return low;
-}
-
-// How far MESH's surface lies from P along −N (unit), the nearest hit of that ray (+inf when none).
-double depth_under(const RawMesh& mesh, Vec3 p, Vec3 n) {
-  double best = INFINITY;
-  for (const auto& t : mesh.triangles) {
-    const Vec3 a = mesh.points[t[0]], b = mesh.points[t[1]], c = mesh.points[t[2]];
-    // Möller–Trumbore with the ray p − s·n, s ≥ 0.
-    const Vec3 dir = n * -1.0, e1 = b - a, e2 = c - a, q = core::cross(dir, e2);
-    const double det = core::dot(e1, q);
-    if (std::abs(det) < 1e-12) continue;
-    const Vec3 r = p - a;
-    const double u = core::dot(r, q) / det;
-    const Vec3 w = core::cross(r, e1);
-    const double v = core::dot(dir, w) / det;
-    if (u < 0.0 || v < 0.0 || u + v > 1.0) continue;
-    const double s = core::dot(e2, w) / det;
-    if (s >= 0.0) best = std::min(best, s);
-  }
-  return best;
 }
 
 // Every bead of the program in DIR over the substrate ON_TABLE is at least the process's least

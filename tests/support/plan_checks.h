@@ -100,6 +100,60 @@ inline io::RawMesh placed(io::RawMesh mesh, const nlohmann::json& plan) {
   return mesh;
 }
 
+struct Tip {
+  int layer = -1;
+  core::Vec3 tip;
+  core::Vec3 axis;  // the tool axis, unit, up the nozzle
+};
+
+// The end points of the process-on feed blocks of the program in DIR, through forward kinematics on
+// the default machine, with their "(layer N" comment.
+inline std::vector<Tip> deposit_tips(const std::filesystem::path& dir, const std::string& name) {
+  auto m = machine::parse_machine(machine::default_machine_json(), "default");
+  auto p = process::parse_process(process::default_process_json(), "default");
+  EXPECT_TRUE(m.ok() && p.ok());
+  std::istringstream in(slurp(dir / (name + ".ngc")));
+  std::string line;
+  std::array<double, 6> pos{};
+  bool on = false;
+  int layer = -1;
+  std::vector<Tip> out;
+  const std::string letters = "XYZABC";
+  while (std::getline(in, line)) {
+    if (line.rfind("(layer ", 0) == 0) layer = std::stoi(line.substr(7));
+    if (line == p.value().process_on) on = true;
+    if (line == p.value().process_off) on = false;
+    if (line.rfind("G1 ", 0) != 0) continue;
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (const auto at = line.find(letters[i]); at != std::string::npos) pos[i] = std::stod(line.substr(at + 1));
+    }
+    if (!on) continue;
+    const auto f = machine::forward(m.value(), {pos[0], pos[1], pos[2], pos[3], pos[5]});
+    out.push_back({layer, f.tip_part_mm, f.tool_axis_part});
+  }
+  return out;
+}
+
+// How far MESH's surface lies from P along −N (unit), the nearest hit of that ray (+inf when none).
+inline double depth_under(const io::RawMesh& mesh, core::Vec3 p, core::Vec3 n) {
+  double best = INFINITY;
+  for (const auto& t : mesh.triangles) {
+    const core::Vec3 a = mesh.points[t[0]], b = mesh.points[t[1]], c = mesh.points[t[2]];
+    // Möller–Trumbore with the ray p − s·n, s ≥ 0.
+    const core::Vec3 dir = n * -1.0, e1 = b - a, e2 = c - a, q = core::cross(dir, e2);
+    const double det = core::dot(e1, q);
+    if (std::abs(det) < 1e-12) continue;
+    const core::Vec3 r = p - a;
+    const double u = core::dot(r, q) / det;
+    const core::Vec3 w = core::cross(r, e1);
+    const double v = core::dot(dir, w) / det;
+    if (u < 0.0 || v < 0.0 || u + v > 1.0) continue;
+    const double s = core::dot(e2, w) / det;
+    if (s >= 0.0) best = std::min(best, s);
+  }
+  return best;
+}
+
 // The program in DIR read back (support/readback.h) on the default machine and process, with the
 // plate report.json states; checks what every plan must hold and returns the reading.
 // ALLOW_COLLISIONS: a plan written with --allow-collisions, whose collisions are listed.

@@ -48,7 +48,8 @@ struct ReadBack {
 // - a prebuilt part (PREBUILT: points on its surface, at most half of REACH_MM apart) grounds the
 //   deposit as earlier layers do; and the head must hold none of HEAD_PREBUILT (points on its surface,
 //   any spacing: the test's resolution), by the head rule below with no tip zone left out beyond
-//   1.5 beads, checked every 3 beads of tip travel and where each block ends.
+//   1.5 beads, checked every 3 beads of tip travel, every 2° of the tool axis's turn, and where
+//   each block with the process off ends.
 // - with HEAD_VS_DEPOSIT (small programs only: every sample against every earlier deposit sample),
 //   a sample's head holds earlier deposit when a deposit sample farther than 1.5 beads from the tip
 //   lies within half a bead of the cone's or the cylinder's side or end (each solid grown by half a
@@ -98,7 +99,7 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
     return in_cone || in_cylinder;
   };
   double since_prebuilt_check = INFINITY;
-  core::Vec3 last_checked;
+  core::Vec3 last_checked, last_checked_axis{0, 0, 1};
   std::istringstream in(gcode);
   std::string line;
   std::array<double, 6> pos{}, prev{};
@@ -168,8 +169,12 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
       }
       since_prebuilt_check += core::norm(t - last_checked);
       last_checked = t;
-      if (!head_prebuilt.empty() && (since_prebuilt_check >= 3.0 * proc.bead_width_mm || k == n)) {
+      // Deposit blocks are checked every 3 beads of tip travel or 2° of turn; the others also
+      // where they end (retracts, approaches and transits are few and long).
+      const bool turned = core::dot(a, last_checked_axis) < std::cos(2.0 * kPi / 180.0);
+      if (!head_prebuilt.empty() && (since_prebuilt_check >= 3.0 * proc.bead_width_mm || turned || (k == n && !on))) {
         since_prebuilt_check = 0.0;
+        last_checked_axis = a;
         for (const core::Vec3& q : head_prebuilt) {
           if (in_head(t, a, q)) {
             ++rb.head_in_prebuilt;

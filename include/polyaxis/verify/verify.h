@@ -5,7 +5,9 @@
 // - Head: at every sample of every move (rapids, approaches and transits included) no point of
 //   the head model is below the substrate's or the table's top (build_model.h, conservative).
 // - Grounding: a layer is the program's "(layer N region R" block; its normal n is fitted to its
-//   deposit samples (the plane they lie on, turned to the tool's side). A deposit sample p rests on
+//   deposit samples (the plane they lie on, turned to the tool's side); where the samples stand
+//   off that plane by more than the sample spacing (root mean square), the layer is curved (a
+//   conformal layer) and n at each sample is its tool axis. A deposit sample p rests on
 //   the substrate when it is over the plate and at most ground_mm above its top, or on earlier
 //   deposit when a sample q of an earlier layer lies under it: h = (p − q)·n in [0, ground_mm] and
 //   |(p − q) − h·n| <= ground_lateral_mm, with

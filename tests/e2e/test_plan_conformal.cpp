@@ -1,0 +1,158 @@
+// Conformal layers (issue 13, item 2), judged from the G-code alone: thick spherical shell pieces
+// on domes of several radii, spans and tessellations, built with `plan --substrate DOME`. Read
+// back through forward kinematics, every bead is grounded and the head keeps clear of the dome
+// and the deposit (support/plan_checks.h); the torch stands along the dome's normal; the thickness
+// at every deposit point, measured here as the distance along its tool axis to the previous layer's
+// beads (to the dome for the first layer), stays in the process's range; rs274 accepts the program.
+// Parallel planes on the same parts overhang at the radial rim; auto layers take conformal ones.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "support/cli.h"
+#include "support/meshes.h"
+#include "support/plan_checks.h"
+
+namespace polyaxis::test {
+namespace {
+
+using core::Vec3;
+
+struct Shell {
+  std::string name;
+  double radius, height, thickness, theta_deg;  // the dome (a cap of RADIUS, HEIGHT tall) and the shell on it
+  std::uint32_t n, m;                           // the shell's tessellation
+  std::string layers;                           // --layers
+};
+
+// The thickness of the beads of the program in DIR, measured along each deposit point's tool axis:
+// to the dome ON_TABLE for the first layer (twice the depth: the tip is on the layer's mid-surface),
+// else to the beads of the layer before whose line passes within half a bead of the axis. Returns
+// the least and largest values and how many points were measured.
+struct Thickness {
+  double least = INFINITY, most = 0.0;
+  std::size_t measured = 0, points = 0;
+};
+Thickness bead_thickness(const std::vector<Tip>& tips, const RawMesh& on_table, double bead_mm) {
+  Thickness out;
+  std::map<int, std::map<std::array<long, 3>, std::vector<Vec3>>> by_layer;  // 2-bead cells
+  const double cell = 2.0 * bead_mm;
+  auto key = [&](Vec3 p) {
+    return std::array<long, 3>{static_cast<long>(std::floor(p.x / cell)), static_cast<long>(std::floor(p.y / cell)), static_cast<long>(std::floor(p.z / cell))};
+  };
+  int first = INT32_MAX;
+  for (const Tip& t : tips) by_layer[t.layer][key(t.tip)].push_back(t.tip), first = std::min(first, t.layer);
+  for (const Tip& t : tips) {
+    ++out.points;
+    double thickness = NAN;
+    if (t.layer == first) {
+      thickness = 2.0 * depth_under(on_table, t.tip, t.axis);
+    } else {
+      const auto below = by_layer.find(t.layer - 1);
+      if (below == by_layer.end()) continue;
+      double best = 0.5 * bead_mm;
+      const auto k = key(t.tip);
+      for (long i = -1; i <= 1; ++i)
+        for (long j = -1; j <= 1; ++j)
+          for (long l = -1; l <= 1; ++l) {
+            const auto it = below->second.find({k[0] + i, k[1] + j, k[2] + l});
+            if (it == below->second.end()) continue;
+            for (const Vec3& q : it->second) {
+              const double along = core::dot(t.tip - q, t.axis), across = core::norm((t.tip - q) - t.axis * along);
+              if (across < best) best = across, thickness = along;
+            }
+          }
+    }
+    if (std::isnan(thickness) || !std::isfinite(thickness)) continue;
+    ++out.measured;
+    out.least = std::min(out.least, thickness), out.most = std::max(out.most, thickness);
+  }
+  return out;
+}
+
+TEST(PlanConformal, ShellsOnDomesBuildAlongTheNormalWithTheThicknessInRange) {
+  const std::vector<Shell> cases = {{"shell_55", 30, 25, 8, 55, 64, 24, "conformal"},
+                                    {"shell_45_coarse", 40, 22, 6, 45, 40, 10, "auto"},
+                                    {"shell_62", 24, 20, 5, 62, 72, 20, "conformal"}};
+  auto process = process::parse_process(process::default_process_json(), "default");
+  ASSERT_TRUE(process.ok());
+  const process::ProcessConfig& p = process.value();
+  for (const Shell& c : cases) {
+    SCOPED_TRACE(c.name);
+    TempDir dir;
+    const RawMesh dome = spherical_cap(c.radius, c.height, 96, 32);
+    // The shell reaches 0.7 mm into the dome: the part is the shell less the dome.
+    write_file(dir.path() / (c.name + ".stl"), binary_stl(shell_patch({0, 0, c.height - c.radius}, c.radius - 0.7, c.radius + c.thickness, c.theta_deg, c.n, c.m)));
+    write_file(dir.path() / "dome.stl", binary_stl(dome));
+    const auto r = run_cli(fmt::format("plan '{}' --substrate '{}' --layers {} --no-html -o '{}'", (dir.path() / (c.name + ".stl")).string(),
+                                       (dir.path() / "dome.stl").string(), c.layers, dir.path().string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto report = read_json(dir.path() / "report.json");
+    EXPECT_TRUE(report["support_free"].get<bool>());
+    const auto plan = read_json(dir.path() / "plan.json");
+    const auto& region = plan["regions"][1];
+    EXPECT_EQ(region["layers"]["strategy"], "conformal") << region["layers"];
+    if (c.layers == "auto") {
+      EXPECT_EQ(region["layers"]["rule"], "layers.conformal");
+    }
+    const RawMesh on_table = placed(dome, plan);
+    check_readback(dir.path(), c.name, false, &on_table);
+    expect_rs274_reads(dir.path(), dir.path() / (c.name + ".ngc"));
+    // The dome's centre, placed: its top less its radius.
+    Vec3 top{0, 0, -INFINITY};
+    for (const Vec3& v : on_table.points) {
+      if (v.z > top.z) top = v;
+    }
+    const Vec3 centre = top - Vec3{0, 0, c.radius};
+    const std::vector<Tip> tips = deposit_tips(dir.path(), c.name);
+    ASSERT_FALSE(tips.empty());
+    // The torch stands along the dome's normal (within its facets' turn, 3.75°), turned up towards
+    // +Z only where the head must clear the table (the planner's guard, counted in axes_turned).
+    double worst_deg = 0.0;
+    std::size_t turned_up = 0;
+    for (const Tip& t : tips) {
+      const Vec3 normal = core::normalized(t.tip - centre);
+      const double off_deg = std::acos(std::clamp(core::dot(t.axis, normal), -1.0, 1.0)) * 180.0 / M_PI;
+      if (off_deg > 360.0 / 96.0 + 0.5 && t.axis.z > normal.z) {
+        ++turned_up;
+        continue;
+      }
+      worst_deg = std::max(worst_deg, off_deg);
+    }
+    EXPECT_LT(worst_deg, 360.0 / 96.0 + 0.5) << "the torch leaves the dome's normal";
+    EXPECT_LE(turned_up, report["axes_turned"].get<std::size_t>());
+    const Thickness th = bead_thickness(tips, on_table, p.bead_width_mm);
+    const double tol = 0.05;  // the dome's faceting and the beads' spacing across the axis
+    EXPECT_GE(th.least, p.layer_min_mm - tol);
+    EXPECT_LE(th.most, p.layer_max_mm + tol);
+    EXPECT_GT(th.measured, th.points / 2) << th.measured << " of " << th.points;
+  }
+}
+
+TEST(PlanConformal, PlanarLayersOnTheSameShellOverhang) {
+  TempDir dir;
+  const RawMesh dome = spherical_cap(30, 25, 96, 32);
+  write_file(dir.path() / "shell.stl", binary_stl(shell_patch({0, 0, -5}, 29.3, 38, 55, 64, 24)));
+  write_file(dir.path() / "dome.stl", binary_stl(dome));
+  const auto r = run_cli(fmt::format("plan '{}' --substrate '{}' --layers planar --allow-collisions --no-html -o '{}'",
+                                     (dir.path() / "shell.stl").string(), (dir.path() / "dome.stl").string(), dir.path().string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GT(read_json(dir.path() / "report.json")["unsupported_area_mm2"].get<double>(), 1.0);
+}
+
+TEST(PlanConformal, ConformalLayersNeedABaseAndATurningTorch) {
+  TempDir dir;
+  write_file(dir.path() / "cube.stl", binary_stl(cube(10)));
+  const std::string part = (dir.path() / "cube.stl").string();
+  auto r = run_cli("plan '" + part + "' --layers conformal -o '" + dir.path().string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--substrate or --prebuilt"), std::string::npos) << r.err;
+  r = run_cli("plan '" + part + "' --layers conformal --no-tilt --substrate '" + part + "' -o '" + dir.path().string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--no-tilt"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace polyaxis::test
