@@ -526,9 +526,14 @@ std::optional<PlanPartResult> clean_program(core::Result<Candidate> candidate, S
   return out;
 }
 
-bool uses_tilted(const Plan& plan) {
-  return std::any_of(plan.placed_regions.begin(), plan.placed_regions.end(),
-                     [](const PlanRegion& r) { return r.layers == slicing::LayerStrategy::kTilted; });
+// The layers of PLAN that turn with the part rather than stay parallel: "tilted", "conformal",
+// "tilted and conformal", or empty when every region is planar.
+std::string turned_layers(const Plan& plan) {
+  auto uses = [&](slicing::LayerStrategy s) {
+    return std::any_of(plan.placed_regions.begin(), plan.placed_regions.end(), [&](const PlanRegion& r) { return !r.prebuilt && r.layers == s; });
+  };
+  const bool tilted = uses(slicing::LayerStrategy::kTilted), conformal = uses(slicing::LayerStrategy::kConformal);
+  return tilted && conformal ? "tilted and conformal" : tilted ? "tilted" : conformal ? "conformal" : "";
 }
 
 // plan_part with the layers OPTIONS.plan.layers asks for (plan_part adds the comparison of auto
@@ -547,20 +552,21 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
   core::Status made = program_of(machine, process, options, out);
   if (made) made = relieve(machine, process, options, out);
   bool mid_air = made && !out.check.mid_air_regions.empty(), collides = made && out.check.collisions > 0;
-  if (options.plan.layers == LayerChoice::kAuto && uses_tilted(out.plan) && (!made || mid_air || collides)) {
-    // Tilted layers whose program cannot be written or, read back, starts in mid-air or strikes
+  const std::string turned = turned_layers(out.plan);
+  if (options.plan.layers == LayerChoice::kAuto && !turned.empty() && (!made || mid_air || collides)) {
+    // Tilted or conformal layers whose program cannot be written or, read back, starts in mid-air or strikes
     // something (the torch turned with the layers brings the head down to the plate): the whole
     // choice again on planar layers, when that reads back clean.
     PlanPartOptions planar = options;
     planar.plan.layers = LayerChoice::kPlanar;
     auto alt = plan_part_as_asked(part, machine, process, planar);
     if (alt && alt.value().check.collisions == 0 && alt.value().check.mid_air_regions.empty()) {
-      const std::string why = !made     ? fmt::format("the tilted layers' program cannot be written: {}", made.error().message)
-                              : mid_air ? fmt::format("read back, the tilted layers' region {} starts in mid-air", out.check.mid_air_regions.front())
-                                        : fmt::format("read back, the tilted layers' program strikes something at {} samples (the first: {})",
+      const std::string why = !made     ? fmt::format("the {} layers' program cannot be written: {}", turned, made.error().message)
+                              : mid_air ? fmt::format("read back, the {} layers' region {} starts in mid-air", turned, out.check.mid_air_regions.front())
+                                        : fmt::format("read back, the {} layers' program strikes something at {} samples (the first: {})", turned,
                                                       out.check.collisions, describe(out.check.collision_list.front()));
       alt.value().choice += fmt::format("; planar layers: {}", why);
-      for (PlanRegion& r : alt.value().plan.placed_regions) r.layers_rule = kLayersPlanar, r.layers_why = "tilted layers were refused: " + why;
+      for (PlanRegion& r : alt.value().plan.placed_regions) r.layers_rule = kLayersPlanar, r.layers_why = turned + " layers were refused: " + why;
       alt.value().warnings.push_back(fmt::format("planar layers were chosen because {}", why));
       return alt;
     }
@@ -649,8 +655,10 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
 core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                        const process::ProcessConfig& process, const PlanPartOptions& options) {
   auto first = plan_part_as_asked(part, machine, process, options);
-  if (options.plan.layers != LayerChoice::kAuto || !first || !uses_tilted(first.value().plan)) return first;
-  // Auto layers took tilted ones somewhere, judged region by region on the slices alone: the
+  if (options.plan.layers != LayerChoice::kAuto || !first) return first;
+  const std::string turned = turned_layers(first.value().plan);
+  if (turned.empty()) return first;
+  // Auto layers took tilted or conformal ones somewhere, judged region by region on the slices alone: the
   // whole choice on planar layers too, and the better plan as built (read back clean first, then
   // less unsupported area, fewer regions, fewer reorientations).
   PlanPartOptions planar_options = options;
@@ -664,8 +672,8 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
   const std::string versus = fmt::format("{} mm2 unsupported, {} regions, {} reorientations against {}, {}, {} on {} layers",
                                          area_text(kept.plan.unsupported_area_mm2), kept.plan.regions, kept.plan.reorientations,
                                          area_text(other.plan.unsupported_area_mm2), other.plan.regions, other.plan.reorientations,
-                                         take_planar ? "tilted" : "planar");
-  kept.choice += fmt::format("; {} layers: {}", take_planar ? "planar" : "tilted", versus);
+                                         take_planar ? turned : "planar");
+  kept.choice += fmt::format("; {} layers: {}", take_planar ? "planar" : turned, versus);
   if (take_planar) {
     for (PlanRegion& r : kept.plan.placed_regions) r.layers_rule = kLayersPlanar, r.layers_why = "the plan on planar layers is the better: " + versus;
   }

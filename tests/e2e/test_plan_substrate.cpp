@@ -98,9 +98,10 @@ TEST(PlanSubstrate, DepositLaidOntoASubstrateReadsBackGroundedAndClearOfIt) {
   }
 }
 
-// Bosses standing on a dome along its normals, too far off vertical for one direction: each piece
-// grows along the dome's normal under it (auto takes that), reads back clean and stays thick
-// enough over the dome.
+// Bosses standing on a dome along its normals, too far off vertical for one direction on planar
+// layers: each piece grows along the dome's normal under it (auto takes that), reads back clean and
+// stays thick enough over the dome. (On conformal layers one region can build them all: auto layers
+// may take that instead; test_plan_conformal.cpp.)
 TEST(PlanSubstrate, PiecesGrowAlongTheSubstratesNormalUnderThem) {
   struct Case {
     std::string name;
@@ -124,8 +125,8 @@ TEST(PlanSubstrate, PiecesGrowAlongTheSubstratesNormalUnderThem) {
     TempDir dir;
     write_file(dir / (c.name + ".stl"), binary_stl(bosses));
     write_file(dir / "dome.stl", binary_stl(dome));
-    const auto r = run_cli("plan '" + (dir / (c.name + ".stl")).string() + "' --substrate '" + (dir / "dome.stl").string() + "' --no-html -o '" +
-                           dir.path().string() + "'");
+    const auto r = run_cli("plan '" + (dir / (c.name + ".stl")).string() + "' --substrate '" + (dir / "dome.stl").string() +
+                           "' --layers planar --no-html -o '" + dir.path().string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto report = read_json(dir / "report.json");
     EXPECT_EQ(report["strategy"].get<std::string>(), "decompose");
