@@ -8,8 +8,10 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <queue>
 #include <unordered_map>
 #include <vector>
@@ -24,39 +26,12 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 struct SurfaceDistance::Impl {
   std::vector<Triangle3> triangles;
-  std::vector<Vec3> normals;
+  std::vector<std::array<std::uint32_t, 3>> corners;  // the mesh vertices of each triangle
+  std::vector<Vec3> normals;                           // per triangle, unit
+  std::vector<std::array<Vec3, 3>> edge_normals;       // per triangle, edge k from corner k to k+1
+  std::vector<Vec3> vertex_normals;                    // per mesh vertex, angle-weighted
   Tree tree;
 };
-
-SurfaceDistance::SurfaceDistance(const Mesh& surface) : impl_(std::make_unique<Impl>()) {
-  for (std::size_t f = 0; f < surface.triangles.size(); ++f) {
-    const Vec3 n = face_area_vector(surface, f);
-    const double len = core::norm(n);
-    if (!(len > 0.0)) continue;
-    const Vec3 a = surface.corner(f, 0), b = surface.corner(f, 1), c = surface.corner(f, 2);
-    impl_->triangles.emplace_back(K::Point_3(a.x, a.y, a.z), K::Point_3(b.x, b.y, b.z), K::Point_3(c.x, c.y, c.z));
-    impl_->normals.push_back(n / len);
-  }
-  if (impl_->triangles.empty()) return;
-  impl_->tree.insert(impl_->triangles.cbegin(), impl_->triangles.cend());
-  impl_->tree.build();
-  impl_->tree.accelerate_distance_queries();
-}
-
-SurfaceDistance::~SurfaceDistance() = default;
-
-bool SurfaceDistance::empty() const { return impl_->triangles.empty(); }
-
-Nearest SurfaceDistance::nearest(Vec3 p) const {
-  const K::Point_3 q(p.x, p.y, p.z);
-  const auto [point, primitive] = impl_->tree.closest_point_and_primitive(q);
-  Nearest out;
-  out.point = {point.x(), point.y(), point.z()};
-  out.normal = impl_->normals[static_cast<std::size_t>(primitive - impl_->triangles.cbegin())];
-  const double dist = core::norm(p - out.point);
-  out.signed_mm = core::dot(p - out.point, out.normal) < 0.0 ? -dist : dist;
-  return out;
-}
 
 namespace {
 
@@ -65,11 +40,92 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
   return (static_cast<std::uint64_t>(a) << 32) | b;
 }
 
+double angle_at(Vec3 p, Vec3 a, Vec3 b) {
+  const Vec3 u = a - p, v = b - p;
+  return std::atan2(core::norm(core::cross(u, v)), core::dot(u, v));
+}
+
+// A barycentric coordinate at most this is zero: the nearest point is on an edge or a vertex.
+constexpr double kOnFeature = 1e-9;
+
+}  // namespace
+
+SurfaceDistance::SurfaceDistance(const Mesh& surface) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.vertex_normals.assign(surface.vertices.size(), Vec3{});
+  std::unordered_map<std::uint64_t, Vec3> edge_sum;
+  for (std::size_t f = 0; f < surface.triangles.size(); ++f) {
+    const Vec3 n = face_area_vector(surface, f);
+    const double len = core::norm(n);
+    if (!(len > 0.0)) continue;
+    const auto& t = surface.triangles[f];
+    const Vec3 p[3] = {surface.corner(f, 0), surface.corner(f, 1), surface.corner(f, 2)};
+    m.triangles.emplace_back(K::Point_3(p[0].x, p[0].y, p[0].z), K::Point_3(p[1].x, p[1].y, p[1].z), K::Point_3(p[2].x, p[2].y, p[2].z));
+    m.corners.push_back({t[0], t[1], t[2]});
+    m.normals.push_back(n / len);
+    for (int k = 0; k < 3; ++k) {
+      m.vertex_normals[t[k]] = m.vertex_normals[t[k]] + m.normals.back() * angle_at(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+      Vec3& e = edge_sum[edge_key(t[k], t[(k + 1) % 3])];
+      e = e + m.normals.back();
+    }
+  }
+  for (const auto& t : m.corners) {
+    std::array<Vec3, 3> e;
+    for (std::size_t k = 0; k < 3; ++k) e[k] = edge_sum[edge_key(t[k], t[(k + 1) % 3])];
+    m.edge_normals.push_back(e);
+  }
+  if (m.triangles.empty()) return;
+  m.tree.insert(m.triangles.cbegin(), m.triangles.cend());
+  m.tree.build();
+  m.tree.accelerate_distance_queries();
+}
+
+SurfaceDistance::~SurfaceDistance() = default;
+
+bool SurfaceDistance::empty() const { return impl_->triangles.empty(); }
+
+Nearest SurfaceDistance::nearest(Vec3 p) const {
+  const Impl& m = *impl_;
+  const K::Point_3 q(p.x, p.y, p.z);
+  const auto [point, primitive] = m.tree.closest_point_and_primitive(q);
+  const auto i = static_cast<std::size_t>(primitive - m.triangles.cbegin());
+  Nearest out;
+  out.point = {point.x(), point.y(), point.z()};
+  // Barycentric coordinates of the nearest point: which feature it lies on.
+  const Triangle3& t = m.triangles[i];
+  const Vec3 a{t[0].x(), t[0].y(), t[0].z()}, b{t[1].x(), t[1].y(), t[1].z()}, c{t[2].x(), t[2].y(), t[2].z()};
+  const Vec3 n = m.normals[i];
+  const double whole = core::dot(core::cross(b - a, c - a), n);
+  const double l[3] = {core::dot(core::cross(b - out.point, c - out.point), n) / whole, core::dot(core::cross(c - out.point, a - out.point), n) / whole,
+                       core::dot(core::cross(a - out.point, b - out.point), n) / whole};
+  const int zeros = (l[0] <= kOnFeature) + (l[1] <= kOnFeature) + (l[2] <= kOnFeature);
+  Vec3 pseudo = n;
+  if (zeros >= 2) {
+    const std::size_t v = l[0] > kOnFeature ? 0 : (l[1] > kOnFeature ? 1 : 2);
+    pseudo = m.vertex_normals[m.corners[i][v]];
+  } else if (zeros == 1) {
+    const std::size_t opposite = l[0] <= kOnFeature ? 0 : (l[1] <= kOnFeature ? 1 : 2);
+    pseudo = m.edge_normals[i][(opposite + 1) % 3];
+  }
+  out.normal = core::norm(pseudo) > 0.0 ? core::normalized(pseudo) : n;
+  const double dist = core::norm(p - out.point);
+  out.signed_mm = core::dot(p - out.point, out.normal) < 0.0 ? -dist : dist;
+  return out;
+}
+
+namespace {
+
 constexpr std::uint32_t kNone = 0xffffffffu;
 
 }  // namespace
 
 Mesh refine(const Mesh& mesh, double max_edge_mm) {
+  const double limit2 = max_edge_mm * max_edge_mm;
+  auto long_edge = [&](Vec3 a, Vec3 b) { return core::dot(b - a, b - a) > limit2; };
+  return *refine(mesh, long_edge, std::numeric_limits<std::size_t>::max());
+}
+
+std::optional<Mesh> refine(const Mesh& mesh, const std::function<bool(Vec3 a, Vec3 b)>& split, std::size_t max_faces) {
   Mesh out = mesh;
   auto& tris = out.triangles;
   auto& verts = out.vertices;
@@ -88,24 +144,28 @@ Mesh refine(const Mesh& mesh, double max_edge_mm) {
     for (std::uint32_t& g : it->second)
       if (g == from) g = to;
   };
-  const double limit2 = max_edge_mm * max_edge_mm;
-  auto longest = [&](std::uint32_t f, double& len2) {
-    int best = 0;
-    len2 = -1.0;
+  // The longest edge of face F that SPLIT takes, or -1.
+  auto to_split = [&](std::uint32_t f) {
+    int order[3] = {0, 1, 2};
+    double len2[3];
     for (int k = 0; k < 3; ++k) {
-      const double l = [](Vec3 e) { return core::dot(e, e); }(verts[tris[f][(k + 1) % 3]] - verts[tris[f][k]]);
-      if (l > len2) len2 = l, best = k;
+      const Vec3 e = verts[tris[f][(k + 1) % 3]] - verts[tris[f][k]];
+      len2[k] = core::dot(e, e);
     }
-    return best;
+    std::sort(order, order + 3, [&](int x, int y) { return len2[x] > len2[y]; });
+    for (const int k : order) {
+      if (split(verts[tris[f][k]], verts[tris[f][(k + 1) % 3]])) return k;
+    }
+    return -1;
   };
   std::queue<std::uint32_t> todo;
   for (std::uint32_t f = 0; f < tris.size(); ++f) todo.push(f);
   while (!todo.empty()) {
     const std::uint32_t f = todo.front();
     todo.pop();
-    double len2 = 0.0;
-    const int k = longest(f, len2);
-    if (len2 <= limit2) continue;
+    const int k = to_split(f);
+    if (k < 0) continue;
+    if (tris.size() + 2 > max_faces) return std::nullopt;
     const std::uint32_t a = tris[f][k], b = tris[f][(k + 1) % 3], c = tris[f][(k + 2) % 3];
     const auto key = edge_key(a, b);
     const std::array<std::uint32_t, 2> pair = faces_of.at(key);

@@ -12,6 +12,7 @@
 #include "polyaxis/mesh/distance.h"
 #include "polyaxis/mesh/mesh.h"
 #include "polyaxis/mesh/topology.h"
+#include "polyaxis/slicing/conformal.h"
 #include "polyaxis/slicing/section.h"
 
 namespace polyaxis::planner::detail {
@@ -95,7 +96,9 @@ void measure_fidelity(Plan& plan, double part_volume_mm3, double conformal_edge_
   for (std::size_t i = 0; i < plan.placed_regions.size(); ++i) {
     if (base == nullptr || plan.placed_regions[i].layers != slicing::LayerStrategy::kConformal) continue;
     ConformalRegion& c = conformal[i];
-    c.fine = mesh::refine(plan.placed_regions[i].mesh, conformal_edge_mm);
+    auto fine = slicing::refined_for_levels(plan.placed_regions[i].mesh, *base, conformal_edge_mm);
+    if (!fine) continue;  // the slicer refined it, so this does not happen; measured as planar then
+    c.fine = std::move(*fine);
     std::vector<double> field(c.fine.vertices.size());
     tbb::parallel_for(std::size_t{0}, field.size(), [&](std::size_t v) { field[v] = base->nearest(c.fine.vertices[v]).signed_mm; });
     c.field = std::make_unique<slicing::SectionContext>(c.fine, plan.placed_regions[i].direction, std::move(field));

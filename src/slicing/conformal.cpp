@@ -54,6 +54,16 @@ std::optional<Lifted> lift(const mesh::SurfaceDistance& base, const Layer& layer
   return lift(base, d, layer.conformal->level_mm, p, layer.height_mm - core::dot(p, d));
 }
 
+std::optional<mesh::Mesh> refined_for_levels(const mesh::Mesh& mesh, const mesh::SurfaceDistance& base, double min_edge_mm) {
+  const double min2 = min_edge_mm * min_edge_mm;
+  auto curved = [&](Vec3 a, Vec3 b) {
+    if (core::dot(b - a, b - a) <= min2) return false;
+    const double fa = base.nearest(a).signed_mm, fb = base.nearest(b).signed_mm, fm = base.nearest((a + b) * 0.5).signed_mm;
+    return std::fabs(fm - 0.5 * (fa + fb)) > kFieldToleranceMm;
+  };
+  return mesh::refine(mesh, curved, kMaxRefinedFaces);
+}
+
 namespace detail {
 
 namespace {
@@ -134,7 +144,12 @@ std::string lift_layer(const mesh::SurfaceDistance& base, const Frame& plane, do
 core::Result<SliceResult> slice_conformal(const mesh::Mesh& region, const SliceOptions& o) {
   const mesh::SurfaceDistance& base = *o.conformal_base;
   const Vec3 d = core::normalized(o.direction);
-  const mesh::Mesh fine = mesh::refine(region, o.conformal_edge_mm);
+  const std::optional<mesh::Mesh> refined = refined_for_levels(region, base, o.conformal_edge_mm);
+  if (!refined) {
+    return core::make_error(core::ErrorCode::kInfeasible,
+                            fmt::format("conformal layers: the region would need more than {} faces to follow the levels", kMaxRefinedFaces));
+  }
+  const mesh::Mesh& fine = *refined;
   std::vector<double> field(fine.vertices.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, field.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) field[i] = base.nearest(fine.vertices[i]).signed_mm;

@@ -2,6 +2,8 @@
 // mesh's corners follow a curved base: what conformal layers (slicing/conformal.h) are made of.
 #pragma once
 
+#include <functional>
+#include <optional>
 #include <memory>
 
 #include "polyaxis/core/vec3.h"
@@ -9,12 +11,15 @@
 
 namespace polyaxis::mesh {
 
-// The point of a surface nearest to a query point, and the signed distance to it: positive on the
-// side the nearest face's normal points to (outside a closed outward mesh), negative behind it.
+// The point of a surface nearest to a query point, and the signed distance to it: positive outside
+// a closed outward mesh, negative inside. The sign is taken against the angle-weighted pseudonormal
+// of the feature the nearest point lies on (Bærentzen & Aanæs): the face's normal inside a face,
+// the sum of its two faces' normals on an edge, the angle-weighted sum of its faces' normals at a
+// vertex, which is right wherever the nearest point lies.
 struct Nearest {
   Vec3 point;
   double signed_mm = 0.0;
-  Vec3 normal{0, 0, 1};  // unit, of the face holding POINT
+  Vec3 normal{0, 0, 1};  // unit, the pseudonormal at POINT
 };
 
 // An AABB tree (CGAL) over the triangles of a surface, built once; queries are thread-safe.
@@ -39,5 +44,9 @@ class SurfaceDistance {
 // applied to both faces of the edge, so a closed manifold mesh stays closed and manifold and the
 // faces keep their orientation. MAX_EDGE_MM > 0. Cost: O(F' log F') for the F' faces made.
 Mesh refine(const Mesh& mesh, double max_edge_mm);
+
+// The same with the edges to bisect chosen by SPLIT(a, b) (each face's longest edge that SPLIT
+// takes is bisected, until none is); nullopt when that would make more than MAX_FACES faces.
+std::optional<Mesh> refine(const Mesh& mesh, const std::function<bool(Vec3 a, Vec3 b)>& split, std::size_t max_faces);
 
 }  // namespace polyaxis::mesh

@@ -2,8 +2,8 @@
 // level sets of the distance from a base surface, and the tool axis follows the distance's
 // gradient. slice() makes them when SliceOptions::conformal_base is set:
 //
-// - the region's mesh is refined (mesh::refine) so the distance, sampled at its corners and linear
-//   over each face, follows the curved levels; a layer's section is the level set on the refined
+// - the region's mesh is refined (refined_for_levels) so the distance, sampled at its corners and
+//   linear over each face, follows the curved levels; a layer's section is the level set on the refined
 //   mesh (SectionContext with a field), projected along d onto the plane normal to d;
 // - the levels run from the base (or the region's nearest point to it, when it does not touch it)
 //   to the farthest point in n equal steps, n the count whose step is nearest the process's layer
@@ -14,6 +14,7 @@
 //   Its contour rings and a grid of interior points are lifted onto the surface to find its span.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 
 #include "polyaxis/core/vec3.h"
@@ -24,6 +25,17 @@ namespace polyaxis::slicing {
 
 // The least component along d of the distance's gradient over a conformal layer (cos 84°).
 inline constexpr double kMinRise = 0.1;
+// The region is refined where the distance, linear over an edge, misses its value at the edge's
+// middle by more than this (mm)...
+inline constexpr double kFieldToleranceMm = 0.02;
+// ... and refused (kInfeasible) when that takes more faces than this.
+inline constexpr std::size_t kMaxRefinedFaces = 2'000'000;
+
+// MESH refined for BASE's levels: every edge longer than MIN_EDGE_MM whose middle's distance from
+// BASE differs from the mean of its ends' by more than kFieldToleranceMm is bisected
+// (mesh::refine), so the levels, linear over each face, follow the distance. Nullopt beyond
+// kMaxRefinedFaces.
+std::optional<mesh::Mesh> refined_for_levels(const mesh::Mesh& mesh, const mesh::SurfaceDistance& base, double min_edge_mm);
 
 struct Lifted {
   Vec3 point;  // on the level set, world frame

@@ -50,7 +50,8 @@ struct SliceOptions {
   std::optional<double> give_up_overhang_mm2;
   // Conformal layers (conformal.h) when set: level sets of the distance from this surface, a
   // thickness in [min_mm, max_mm] as near layer_mm as divides the part's farthest distance evenly,
-  // the sections projected along DIRECTION. The mesh is refined to edges of conformal_edge_mm first.
+  // the sections projected along DIRECTION. The mesh is refined first where the distance is not
+  // linear over its edges, down to edges of conformal_edge_mm (conformal.h refined_for_levels).
   std::shared_ptr<const mesh::SurfaceDistance> conformal_base;
   double conformal_edge_mm = 1.0;
 };

@@ -34,6 +34,34 @@ TEST(SurfaceDistance, SignedDistanceAndNearestPointOfABox) {
   EXPECT_TRUE(none.empty());
 }
 
+// The sign holds wherever the nearest point lies, on a face, an edge or a vertex (the faces' own
+// normals get it wrong beyond a rim: a point level with a flat top, off its edge).
+TEST(SurfaceDistance, SignAgreesWithTheWindingNumberAroundEdgesAndVertices) {
+  for (const auto& raw : {test::frustum(28, 50, 75, 16), test::box({0, 0, 0}, {10, 20, 10}), test::spherical_cap(20, 8, 12, 4)}) {
+    const Mesh m = repaired(raw);
+    const SurfaceDistance d(m);
+    std::uint64_t state = 12345;
+    auto next = [&] {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(state >> 11) / 9007199254740992.0;
+    };
+    int wrong = 0, n = 0;
+    for (int i = 0; i < 3000; ++i) {
+      Vec3 p{-80 + 160 * next(), -80 + 160 * next(), -20 + 120 * next()};
+      if (i % 3 == 0) p.z = 75.0;  // level with the frustum's top, the box's and cap's beyond
+      if (i % 3 == 1) p.z = 10.0;
+      const double w = winding_number(m, p);
+      if (std::abs(w) > 0.01 && std::abs(w - 1.0) > 0.01) continue;  // on the surface
+      const Nearest q = d.nearest(p);
+      if (std::abs(q.signed_mm) < 1e-6) continue;
+      ++n;
+      if ((q.signed_mm < 0.0) != (w > 0.5)) ++wrong;
+    }
+    EXPECT_GT(n, 2000);
+    EXPECT_EQ(wrong, 0);
+  }
+}
+
 TEST(Refine, EveryEdgeShortClosedOrientedVolumeKept) {
   for (const double limit : {0.7, 2.5}) {
     for (const auto& raw : {test::box({0, 0, 0}, {10, 3, 7}), test::cylinder({1, 2, 3}, {0.2, 0.1, 1}, 4, 15, 12), test::spherical_cap(20, 8, 24, 6)}) {
@@ -52,6 +80,23 @@ TEST(Refine, EveryEdgeShortClosedOrientedVolumeKept) {
       EXPECT_NEAR(surface_area(fine), surface_area(m), 1e-9 * surface_area(m));
     }
   }
+}
+
+TEST(Refine, ByAPredicateWithinAFaceBudget) {
+  const Mesh m = repaired(test::box({0, 0, 0}, {40, 10, 10}));
+  // Only edges crossing x = 20.5 are cut, down to 1 mm.
+  auto crossing = [](Vec3 a, Vec3 b) { return core::norm(b - a) > 1.0 && (a.x - 20.5) * (b.x - 20.5) < 0.0; };
+  const auto fine = refine(m, crossing, 100000);
+  ASSERT_TRUE(fine);
+  EXPECT_TRUE(build_topology(*fine).closed());
+  EXPECT_NEAR(signed_volume(*fine), 4000.0, 1e-6);
+  for (std::size_t f = 0; f < fine->triangles.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = fine->corner(f, k), b = fine->corner(f, (k + 1) % 3);
+      EXPECT_FALSE(crossing(a, b));
+    }
+  }
+  EXPECT_FALSE(refine(m, crossing, 20));  // more faces than that
 }
 
 }  // namespace
