@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "polyaxis/planner/plan.h"
+#include "polyaxis/slicing/conformal.h"
 #include "clearance.h"
 #include "reach.h"
 
@@ -36,10 +37,10 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
        "the part less the substrate (--substrate), deposited onto the substrate along the given direction; its first beads rest on the "
        "substrate's surface",
        {}},
-      {kLayersAsked, "the region's layers are those --layers asked for (planar or tilted)", {}},
+      {kLayersAsked, "the region's layers are those --layers asked for (planar, tilted or conformal)", {}},
       {kLayersPlanar,
-       "the region keeps planar layers: they leave no overhang, or tilted layers leave no less than half of it, cannot follow the "
-       "part, or the plan on them reads back worse",
+       "the region keeps planar layers: they leave no overhang, or tilted and conformal layers leave no less than half of it, cannot "
+       "follow the part, or the plan on them reads back worse",
        {{"tilted_gain_share", kTiltedGainShare}}},
       {kLayersTilted,
        "the region takes tilted \"3-D\" layers along its centroidal axis (Ruan §4.2.2): its planar layers overhang and the tilted ones "
@@ -49,6 +50,14 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
         {"voldiff", process.voldiff},
         {"layer_min_mm", process.layer_min_mm},
         {"layer_max_mm", process.layer_max_mm}}},
+      {kLayersConformal,
+       "the region takes conformal layers: level sets of the distance from the prebuilt part's surface at an even step, the torch along "
+       "the distance's gradient (Kapil's offset surfaces); its planar layers overhang and the conformal ones, compared on their footprints "
+       "down the gradient, leave less than this share of it, and less than tilted ones",
+       {{"tilted_gain_share", kTiltedGainShare},
+        {"layer_min_mm", process.layer_min_mm},
+        {"layer_max_mm", process.layer_max_mm},
+        {"field_tolerance_mm", slicing::kFieldToleranceMm}}},
       {kRuleStart, "the root region's first layer starts the build, on the plate", {}},
       {kRuleFather, "a child region starts once its father is complete (Dwivedi: a child is not built before its father)", {}},
       {kRuleContinue, "the region being built goes on with its next layer (Dwivedi Rule 4: layers of a region in layer order)", {}},
