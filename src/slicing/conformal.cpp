@@ -121,6 +121,8 @@ std::string lift_layer(const mesh::SurfaceDistance& base, const Frame& plane, do
     feet.push_back(std::move(foot));
   }
   c.footprint = geom2d::union_rings(feet, geom2d::FillRule::kNonZero);
+  double stretch = 0.0;
+  int inside_samples = 0;
   if (!rings.empty()) {
     const double w = static_cast<double>(u1 - u0), h = static_cast<double>(v1 - v0);
     const double step = std::max(std::sqrt(w * h / kSpanGridCells), static_cast<double>(geom2d::to_units(kSpanGridMinMm)));
@@ -129,9 +131,12 @@ std::string lift_layer(const mesh::SurfaceDistance& base, const Frame& plane, do
         if (!inside(rings, u, v)) continue;
         const Vec3 p = plane.to_world(geom2d::to_mm(static_cast<std::int64_t>(u)), geom2d::to_mm(static_cast<std::int64_t>(v)));
         if (!take(p)) return fold(p);
+        stretch += 1.0 / core::dot(axis, d), ++inside_samples;  // the surface over a patch of the plane: its area / rise
       }
     }
   }
+  // The layer's area on its surface: the projected area times the mean stretch over the grid.
+  if (inside_samples > 0) layer.area_mm2 *= stretch / inside_samples;
   if (!std::isfinite(low)) low = high = guess;
   c.low_mm = low, c.high_mm = high;
   layer.height_mm = 0.5 * (low + high);

@@ -11,7 +11,9 @@
 //   tool axis (the gradient) is that step at every point;
 // - each layer's surface must be a height field over the plane along d (the gradient at least
 //   kMinRise along d) where the section lies; where it folds over, slicing fails with kInfeasible.
-//   Its contour rings and a grid of interior points are lifted onto the surface to find its span.
+//   Its contour rings and a grid of interior points are lifted onto the surface to find its span,
+//   and its area (Layer::area_mm2) is the projected area times the mean of 1/(g·d) over the grid:
+//   the area on the surface, so Σ area × thickness estimates the deposited volume.
 #pragma once
 
 #include <cstddef>

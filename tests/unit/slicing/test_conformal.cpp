@@ -74,6 +74,10 @@ TEST(Conformal, LayersAtEvenDistancesFromASphereAlongItsNormal) {
         EXPECT_NEAR(level_of(lifted->point - lifted->axis * t), l.conformal->level_mm - t, tol);
       }
     }
+    // Σ area × thickness, the areas on the curved surfaces, is the shell's volume (to its faceting).
+    const double kPi = 3.14159265358979323846, r1 = c.radius + c.thickness;
+    const double volume = 2.0 * kPi / 3.0 * (r1 * r1 * r1 - c.radius * c.radius * c.radius) * (1.0 - std::cos(c.theta_deg * kPi / 180.0));
+    EXPECT_NEAR(r.value().volume_estimate_mm3, volume, 0.03 * volume);
     // The radial rim stands on the layer below along the normal; parallel planes overhang there.
     EXPECT_LT(overhang_estimate_mm2(r.value(), 30.0, 0.0), 0.5);
     SliceOptions planar;
