@@ -391,7 +391,8 @@ slicing::SliceOptions tilted_options(const PlanRegion& region, const machine::Ma
 }
 
 // The options of REGION's conformal slicing: levels of the distance from BASE (the prebuilt part's
-// surface) at the process's step within its range, on the region refined to kConformalEdgeBeads.
+// surface) at the process's step within its range, on the region refined where the distance bends,
+// down to edges of kConformalEdgeBeads.
 slicing::SliceOptions conformal_options(const PlanRegion& region, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                         const PlanOptions& options, std::shared_ptr<const mesh::SurfaceDistance> base) {
   slicing::SliceOptions slice = region_slice_options(region, machine, process, options);

@@ -39,8 +39,8 @@ inline constexpr const char* kLayersConformal = "layers.conformal";  // auto: co
 // Auto layers: tilted or conformal layers are kept when they leave less than this share of the
 // planar layers' overhang (the one of the two that leaves less).
 inline constexpr double kTiltedGainShare = 0.5;
-// Conformal layers: the region is refined to edges of at most this many bead widths before its
-// levels are cut, so the distance, linear over each face, follows the curved levels.
+// Conformal layers: where the distance from the base bends over an edge of the region, the edge is
+// bisected down to this many bead widths before the levels are cut (slicing::refined_for_levels).
 inline constexpr double kConformalEdgeBeads = 0.5;
 
 struct PlanOptions {
