@@ -156,6 +156,34 @@ TEST(PlanConformal, BossesGrowingFromADomeShareConformalLayers) {
   expect_conformal_plan(dir, "bosses", spherical_cap(radius, height, 96, 32), radius, "auto");
 }
 
+// A region of the decomposition marked prebuilt is a base as a substrate is: the arm of an L laid
+// onto its prebuilt column on conformal layers, read back grounded and clear, every thickness in
+// range along the tool axis.
+TEST(PlanConformal, ConformalLayersOnAPrebuiltRegion) {
+  auto process = process::parse_process(process::default_process_json(), "default");
+  ASSERT_TRUE(process.ok());
+  TempDir dir;
+  write_file(dir / "l_other.stl", binary_stl(prism_xz({{0, 0}, {18, 0}, {18, 30}, {46, 30}, {46, 44}, {0, 44}}, 14)));
+  const auto r = run_cli("plan '" + (dir / "l_other.stl").string() + "' --prebuilt 0 --layers conformal --no-html -o '" + dir.path().string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto plan = read_json(dir / "plan.json");
+  ASSERT_GE(plan["regions"].size(), 2u);
+  EXPECT_EQ(plan["regions"][1]["layers"]["strategy"], "conformal") << plan["regions"][1]["layers"];
+  EXPECT_TRUE(read_json(dir / "report.json")["support_free"].get<bool>());
+  RawMesh root;  // where plan.json places it (table frame)
+  const auto& v = plan["regions"][0]["vertices"];
+  for (std::size_t i = 0; i + 2 < v.size(); i += 3) root.points.push_back({v[i].get<double>(), v[i + 1].get<double>(), v[i + 2].get<double>()});
+  const auto& t = plan["regions"][0]["triangles"];
+  for (std::size_t i = 0; i + 2 < t.size(); i += 3) root.triangles.push_back({t[i].get<std::uint32_t>(), t[i + 1].get<std::uint32_t>(), t[i + 2].get<std::uint32_t>()});
+  const ReadBack rb = check_readback(dir.path(), "l_other", false, &root);
+  EXPECT_EQ(rb.ungrounded, 0u) << rb.first_problem;
+  expect_rs274_reads(dir.path(), dir / "l_other.ngc");
+  const Thickness th = bead_thickness(deposit_tips(dir.path(), "l_other"), root, process.value().bead_width_mm);
+  EXPECT_GE(th.least, process.value().layer_min_mm - 0.05);
+  EXPECT_LE(th.most, process.value().layer_max_mm + 0.05);
+  EXPECT_GT(th.measured, th.points / 2) << th.measured << " of " << th.points;
+}
+
 TEST(PlanConformal, PlanarLayersOnTheSameShellOverhang) {
   TempDir dir;
   const RawMesh dome = spherical_cap(30, 25, 96, 32);
