@@ -54,7 +54,9 @@ SurfaceWarp::SurfaceWarp(const mesh::SurfaceDistance& base, const slicing::Layer
     for (std::size_t i = 0; i < samples; ++i) {
       const double r = step_ * static_cast<double>(i);
       const Vec3 p = layer.frame.to_world(cu_ + r * cu, cv_ + r * cv);
-      const auto l = slicing::lift(base, layer, p);
+      // Searched from the previous sample's height: a step or two of Newton.
+      const double from = std::isnan(height) ? layer.height_mm : height;
+      const auto l = slicing::lift(base, d, layer.conformal->level_mm, p, from - core::dot(p, d));
       const double h = l ? core::dot(l->point, d) : height;
       if (i > 0) along += std::isnan(h) || std::isnan(height) ? step_ : std::hypot(step_, h - height);
       if (!std::isnan(h)) height = h;
