@@ -8,15 +8,12 @@
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/mesh/topology.h"
 #include "support/meshes.h"
+#include "support/repaired.h"
 
 namespace polyaxis::mesh {
 namespace {
 
-Mesh repaired(io::RawMesh raw) {
-  auto r = repair(std::move(raw));
-  EXPECT_TRUE(r.ok());
-  return r.value().mesh;
-}
+Mesh repaired(io::RawMesh raw) { return test::repaired(std::move(raw)).mesh; }
 
 TEST(SurfaceDistance, SignedDistanceAndNearestPointOfABox) {
   const Mesh box = repaired(test::box({0, 0, 0}, {10, 20, 10}));

@@ -14,15 +14,12 @@
 #include "polyaxis/slicing/conformal.h"
 #include "polyaxis/slicing/slice.h"
 #include "support/meshes.h"
+#include "support/repaired.h"
 
 namespace polyaxis::slicing {
 namespace {
 
-mesh::Mesh repaired(io::RawMesh raw) {
-  auto r = mesh::repair(std::move(raw));
-  EXPECT_TRUE(r.ok());
-  return r.value().mesh;
-}
+mesh::Mesh repaired(io::RawMesh raw) { return test::repaired(std::move(raw)).mesh; }
 
 struct Case {
   double radius, thickness, theta_deg;
