@@ -87,6 +87,7 @@ FloatPointWelder::FloatPointWelder(std::vector<core::Vec3>& points, std::size_t 
   while (capacity < 2 * expected_points) capacity *= 2;
   slots_.assign(capacity, Slot{0, 0, 0, kEmpty});
   mask_ = capacity - 1;
+  recent_.assign(kRecent, Slot{0, 0, 0, kEmpty});
 }
 
 std::uint32_t FloatPointWelder::index_of(float x, float y, float z) {
@@ -94,18 +95,34 @@ std::uint32_t FloatPointWelder::index_of(float x, float y, float z) {
   y += 0.0f;
   z += 0.0f;
   const std::uint64_t h = hash_float_point(x, y, z);
+  Slot& cached = recent_[(h >> 40) % kRecent];
+  if (cached.index != kEmpty && cached.x == x && cached.y == y && cached.z == z) return cached.index;
   std::uint64_t s = h & mask_;
   while (true) {
     const Slot& slot = slots_[s];
     if (slot.index == kEmpty) break;
-    if (slot.x == x && slot.y == y && slot.z == z) return slot.index;
+    if (slot.x == x && slot.y == y && slot.z == z) {
+      cached = slot;
+      return slot.index;
+    }
     s = (s + 1) & mask_;
   }
   const auto index = static_cast<std::uint32_t>(points_.size());
   points_.push_back({x, y, z});
-  slots_[s] = Slot{x, y, z, index};
+  slots_[s] = cached = Slot{x, y, z, index};
   if (2 * points_.size() > slots_.size()) grow();
   return index;
+}
+
+std::uint32_t FloatPointWelder::find(float x, float y, float z) const {
+  x += 0.0f;
+  y += 0.0f;
+  z += 0.0f;
+  for (std::uint64_t s = hash_float_point(x, y, z) & mask_;; s = (s + 1) & mask_) {
+    const Slot& slot = slots_[s];
+    if (slot.index == kEmpty) return kAbsent;
+    if (slot.x == x && slot.y == y && slot.z == z) return slot.index;
+  }
 }
 
 void FloatPointWelder::grow() {

@@ -39,6 +39,9 @@ class FloatPointWelder {
  public:
   FloatPointWelder(std::vector<core::Vec3>& points, std::size_t expected_points);
   std::uint32_t index_of(float x, float y, float z);
+  // Index of the point if it is already there, else kAbsent. Read-only: safe from several threads.
+  static constexpr std::uint32_t kAbsent = 0xffffffffu;
+  std::uint32_t find(float x, float y, float z) const;
 
  private:
   struct Slot {
@@ -50,6 +53,10 @@ class FloatPointWelder {
   std::vector<core::Vec3>& points_;
   std::vector<Slot> slots_;
   std::uint64_t mask_ = 0;
+  // Direct-mapped cache of recently seen points (64 KiB, in L2): a vertex's facets are mostly near
+  // each other in a file, so most repeats are found here without a miss in the large table.
+  static constexpr std::size_t kRecent = 4096;
+  std::vector<Slot> recent_;
 };
 
 }  // namespace polyaxis::io

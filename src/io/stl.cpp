@@ -6,11 +6,18 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <charconv>
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <optional>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "point_welder.h"
 #include "polyaxis/core/progress.h"
@@ -74,6 +81,65 @@ bool looks_ascii(std::string_view data) {
   return end != std::string_view::npos || head.find("facet") != std::string_view::npos;
 }
 
+// One chunk of a binary STL welded on its own: its distinct points in first-seen order (with
+// their table, kept for the chunks after it) and its triangles in those local indices, or the first
+// facet with a non-finite vertex.
+struct WeldedChunk {
+  std::vector<Vec3> points;
+  std::optional<FloatPointWelder> welder;
+  std::vector<Triangle> triangles;
+  std::vector<std::uint32_t> global;  // local point -> index in the whole mesh
+  std::uint64_t nan_normals = 0;
+  std::uint64_t bad_facet = std::numeric_limits<std::uint64_t>::max();
+  unsigned bad_corner = 0;
+};
+
+void weld_chunk(const char* records, std::uint64_t first, std::uint64_t last, WeldedChunk& chunk) {
+  const std::uint64_t n = last - first;
+  chunk.triangles.resize(n);
+  chunk.points.reserve(n / 2 + 16);
+  FloatPointWelder& welder = chunk.welder.emplace(chunk.points, n / 2 + 16);
+  const char* rec = records + first * kRecordBytes;
+  for (std::uint64_t t = 0; t < n; ++t, rec += kRecordBytes) {
+    if (!std::isfinite(read_f32(rec)) || !std::isfinite(read_f32(rec + 4)) || !std::isfinite(read_f32(rec + 8))) ++chunk.nan_normals;
+    for (unsigned c = 0; c < 3; ++c) {
+      const char* v = rec + 12 + 12 * c;
+      const float x = read_f32(v), y = read_f32(v + 4), z = read_f32(v + 8);
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
+        chunk.bad_facet = first + t;
+        chunk.bad_corner = c;
+        return;
+      }
+      chunk.triangles[t][c] = welder.index_of(x, y, z);
+    }
+  }
+}
+
+// Chunk C's points that an earlier chunk already has: global[i] is set to (chunk << 32 | local
+// index) of the first such chunk, packed, or kNew. Read-only lookups, parallel over the points.
+constexpr std::uint64_t kNew = std::numeric_limits<std::uint64_t>::max();
+
+std::vector<std::uint64_t> earlier_copies(const std::vector<WeldedChunk>& chunks, std::size_t c) {
+  const auto& points = chunks[c].points;
+  std::vector<std::uint64_t> found(points.size(), kNew);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const auto x = static_cast<float>(points[i].x), y = static_cast<float>(points[i].y), z = static_cast<float>(points[i].z);
+      for (std::size_t j = 0; j < c; ++j) {
+        const std::uint32_t k = chunks[j].welder->find(x, y, z);
+        if (k != FloatPointWelder::kAbsent) {
+          found[i] = static_cast<std::uint64_t>(j) << 32 | k;
+          break;
+        }
+      }
+    }
+  });
+  return found;
+}
+
+// Chunks are welded in parallel, then each chunk's points are looked up in the chunks before it,
+// so every point gets the index of its first appearance in the file, as one sequential pass would
+// give it: the mesh does not depend on the thread count.
 core::Result<ReadResult> read_binary(std::string_view data, const std::string& name, const ReadOptions& options,
                                      std::vector<std::string> warnings) {
   const std::uint64_t n = (data.size() - kHeaderBytes) / kRecordBytes;
@@ -86,30 +152,56 @@ core::Result<ReadResult> read_binary(std::string_view data, const std::string& n
   if (declared != n) {
     warnings.push_back(fmt::format("header says {} triangles but the file size holds {}; trusting the size", declared, n));
   }
+  constexpr std::uint64_t kMinChunkTriangles = 1 << 16;
+  const auto threads = static_cast<std::uint64_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::size_t count = std::clamp<std::uint64_t>(n / kMinChunkTriangles, 1, threads);
+  std::vector<WeldedChunk> chunks(count);  // never resized: each welder refers to its own points
+  const char* records = data.data() + kHeaderBytes;
+  auto bound = [&](std::uint64_t c) { return n * c / count; };
+  core::Progress progress("reading", n);  // triangles
+  tbb::parallel_for(std::size_t{0}, count, [&](std::size_t c) { weld_chunk(records, bound(c), bound(c + 1), chunks[c]); });
+  std::uint64_t nan_normals = 0;
+  for (const WeldedChunk& chunk : chunks) {
+    if (chunk.bad_facet != std::numeric_limits<std::uint64_t>::max()) {
+      return make_error(ErrorCode::kInvalidInput,
+                        fmt::format("{}: facet {} (byte offset {}) has a NaN or infinite vertex", name, chunk.bad_facet,
+                                    kHeaderBytes + chunk.bad_facet * kRecordBytes + 12 + 12 * chunk.bad_corner));
+    }
+    nan_normals += chunk.nan_normals;
+  }
+  progress.update(n / 2);
+
   ReadResult result;
   result.format = Format::kStlBinary;
   RawMesh& mesh = result.mesh;
-  mesh.triangles.resize(n);
-  mesh.points.reserve(n / 2 + 16);
-  FloatPointWelder welder(mesh.points, n / 2 + 16);
-  std::uint64_t nan_normals = 0;
-  const char* rec = data.data() + kHeaderBytes;
-  core::Progress progress("reading", n);  // triangles
-  for (std::uint64_t t = 0; t < n; ++t, rec += kRecordBytes) {
-    if ((t & 0xffff) == 0) progress.update(t);
-    if (!std::isfinite(read_f32(rec)) || !std::isfinite(read_f32(rec + 4)) || !std::isfinite(read_f32(rec + 8))) {
-      ++nan_normals;
-    }
-    for (int c = 0; c < 3; ++c) {
-      const char* v = rec + 12 + 12 * c;
-      const float x = read_f32(v), y = read_f32(v + 4), z = read_f32(v + 8);
-      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-        return make_error(ErrorCode::kInvalidInput,
-                          fmt::format("{}: facet {} (byte offset {}) has a NaN or infinite vertex", name, t,
-                                      kHeaderBytes + t * kRecordBytes + 12 + 12 * static_cast<unsigned>(c)));
+  if (count == 1) {
+    mesh.points = std::move(chunks[0].points);
+    mesh.triangles = std::move(chunks[0].triangles);
+  } else {
+    std::size_t distinct = 0;
+    for (const WeldedChunk& chunk : chunks) distinct += chunk.points.size();
+    mesh.points.reserve(distinct);
+    for (std::size_t c = 0; c < count; ++c) {
+      const std::vector<std::uint64_t> found = c == 0 ? std::vector<std::uint64_t>(chunks[0].points.size(), kNew) : earlier_copies(chunks, c);
+      auto& global = chunks[c].global;
+      global.resize(found.size());
+      for (std::size_t i = 0; i < found.size(); ++i) {
+        if (found[i] == kNew) {
+          global[i] = static_cast<std::uint32_t>(mesh.points.size());
+          mesh.points.push_back(chunks[c].points[i]);
+        } else {
+          global[i] = chunks[found[i] >> 32].global[found[i] & 0xffffffffu];
+        }
       }
-      mesh.triangles[t][static_cast<std::size_t>(c)] = welder.index_of(x, y, z);
     }
+    mesh.triangles.resize(n);
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t c) {
+      const auto& local = chunks[c].triangles;
+      const auto& global = chunks[c].global;
+      for (std::uint64_t t = 0; t < local.size(); ++t) {
+        for (std::size_t k = 0; k < 3; ++k) mesh.triangles[bound(c) + t][k] = global[local[t][k]];
+      }
+    });
   }
   if (nan_normals > 0) warnings.push_back(fmt::format("{} facets had a NaN or infinite normal; normals are recomputed", nan_normals));
   result.warnings = std::move(warnings);

@@ -145,6 +145,7 @@ std::uint64_t remove_degenerate_faces(Mesh& mesh) {
 }
 
 std::uint64_t remove_duplicate_faces(Mesh& mesh, const EdgeTopology& topo) {
+  if (topo.closed() && topo.misoriented_edges == 0) return 0;  // no face can have a candidate edge
   std::vector<std::uint32_t> candidates;
   for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
     for (std::uint32_t k = 0; k < 3; ++k) {

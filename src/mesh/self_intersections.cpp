@@ -16,7 +16,9 @@
 #include <CGAL/intersections.h>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -37,6 +39,29 @@ using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
 
 Point to_point(Vec3 v) { return {v.x, v.y, v.z}; }
 
+// The sign of the orientation of D against the plane of (A, B, C) in doubles, when a forward error
+// bound proves it (Shewchuk's orient3d with his bound o3derrboundA); 0 when it does not, and the
+// caller asks CGAL's exact predicate. Neighbouring faces, the bulk of the candidate pairs, are
+// mostly told apart here without building CGAL objects.
+int sure_orientation(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+  const double adx = a.x - d.x, bdx = b.x - d.x, cdx = c.x - d.x;
+  const double ady = a.y - d.y, bdy = b.y - d.y, cdy = c.y - d.y;
+  const double adz = a.z - d.z, bdz = b.z - d.z, cdz = c.z - d.z;
+  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+  const double cdxady = cdx * ady, adxcdy = adx * cdy;
+  const double adxbdy = adx * bdy, bdxady = bdx * ady;
+  const double det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * std::fabs(adz) + (std::fabs(cdxady) + std::fabs(adxcdy)) * std::fabs(bdz) +
+                           (std::fabs(adxbdy) + std::fabs(bdxady)) * std::fabs(cdz);
+  constexpr double kEpsilon = 0x1p-53;
+  constexpr double kBound = (7.0 + 56.0 * kEpsilon) * kEpsilon;
+  const double bound = kBound * permanent;
+  // Shewchuk's sign convention is the opposite of CGAL's orientation(p, q, r, s).
+  if (det > bound) return -1;
+  if (-det > bound) return 1;
+  return 0;
+}
+
 bool faces_intersect(const Mesh& mesh, std::size_t f, std::size_t g) {
   const Triangle& a = mesh.triangles[f];
   const Triangle& b = mesh.triangles[g];
@@ -51,8 +76,26 @@ bool faces_intersect(const Mesh& mesh, std::size_t f, std::size_t g) {
       }
     }
   }
-  const Point pa[3] = {to_point(mesh.corner(f, 0)), to_point(mesh.corner(f, 1)), to_point(mesh.corner(f, 2))};
-  const Point pb[3] = {to_point(mesh.corner(g, 0)), to_point(mesh.corner(g, 1)), to_point(mesh.corner(g, 2))};
+  const Vec3 va[3] = {mesh.corner(f, 0), mesh.corner(f, 1), mesh.corner(f, 2)};
+  const Vec3 vb[3] = {mesh.corner(g, 0), mesh.corner(g, 1), mesh.corner(g, 2)};
+  if (shared == 1) {
+    // One face's far edge surely on one side of the other's plane: they meet at the vertex only.
+    auto surely_one_side = [](const Vec3* t, Vec3 p, Vec3 q) {
+      const int op = sure_orientation(t[0], t[1], t[2], p);
+      return op != 0 && op == sure_orientation(t[0], t[1], t[2], q);
+    };
+    if (surely_one_side(vb, va[(ia + 1) % 3], va[(ia + 2) % 3]) || surely_one_side(va, vb[(ib + 1) % 3], vb[(ib + 2) % 3])) return false;
+  }
+  if (shared == 2) {
+    // Faces on a shared edge meet beyond it only when folded flat onto each other: the far vertex
+    // of one surely off the other's plane settles it.
+    for (int j = 0; j < 3; ++j) {
+      const std::uint32_t v = b[static_cast<std::size_t>(j)];
+      if (v != a[0] && v != a[1] && v != a[2] && sure_orientation(va[0], va[1], va[2], vb[j]) != 0) return false;
+    }
+  }
+  const Point pa[3] = {to_point(va[0]), to_point(va[1]), to_point(va[2])};
+  const Point pb[3] = {to_point(vb[0]), to_point(vb[1]), to_point(vb[2])};
   const Triangle3 ta(pa[0], pa[1], pa[2]), tb(pb[0], pb[1], pb[2]);
   if (shared == 0) return CGAL::do_intersect(ta, tb);
   if (shared == 1) {
@@ -105,11 +148,14 @@ struct FaceGrid {
   double origin[3] = {0, 0, 0}, cell = 1.0;
   std::int64_t dims[3] = {1, 1, 1};
   std::vector<std::uint32_t> start, faces;  // faces of cell c: faces[start[c], start[c + 1])
-  std::int64_t index(const double* p, int k) const {
-    return std::clamp(static_cast<std::int64_t>(std::floor((p[k] - origin[k]) / cell)), std::int64_t{0}, dims[k] - 1);
+  std::int64_t index(double v, int k) const {
+    return std::clamp(static_cast<std::int64_t>(std::floor((v - origin[k]) / cell)), std::int64_t{0}, dims[k] - 1);
   }
+  std::int64_t index(const double* p, int k) const { return index(p[k], k); }
   std::int64_t cell_of(const double* p) const { return (index(p, 2) * dims[1] + index(p, 1)) * dims[0] + index(p, 0); }
 };
+
+constexpr std::size_t kMinFacesPerPart = std::size_t{1} << 16;
 
 // The grid, or none when the faces are too uneven for one (a face spanning many cells).
 std::optional<FaceGrid> make_grid(const std::vector<Box>& boxes) {
@@ -139,10 +185,9 @@ std::optional<FaceGrid> make_grid(const std::vector<Box>& boxes) {
   }
   for (int k = 0; k < 3; ++k) g.origin[k] = lo[k], g.dims[k] = static_cast<std::int64_t>(std::floor((hi[k] - lo[k]) / g.cell)) + 1;
   const auto cells = static_cast<std::size_t>(g.dims[0] * g.dims[1] * g.dims[2]);
-  // Counting sort of (cell, face) entries; too many entries means faces far larger than the cell.
-  std::vector<std::uint32_t> count(cells + 1, 0);
-  std::uint64_t entries = 0;
-  const std::uint64_t max_entries = 16 * static_cast<std::uint64_t>(boxes.size()) + 64;
+  // Counting sort of (cell, face) entries in parts over the faces, counted and placed in parallel
+  // (within a cell the faces stay in index order); too many entries means faces far larger than
+  // the cell.
   auto for_cells = [&](const Box& b, auto&& visit) {
     const double l[3] = {b.min_coord(0), b.min_coord(1), b.min_coord(2)}, h[3] = {b.max_coord(0), b.max_coord(1), b.max_coord(2)};
     for (std::int64_t z = g.index(l, 2); z <= g.index(h, 2); ++z) {
@@ -151,16 +196,48 @@ std::optional<FaceGrid> make_grid(const std::vector<Box>& boxes) {
       }
     }
   };
-  for (const Box& b : boxes) {
-    for_cells(b, [&](std::size_t c) { ++count[c + 1], ++entries; });
-    if (entries > max_entries) return std::nullopt;
+  const std::size_t nf = boxes.size();
+  const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::size_t parts = std::clamp<std::size_t>(nf / kMinFacesPerPart, 1, threads);
+  auto first_face = [&](std::size_t p) { return nf * p / parts; };
+  const std::uint64_t max_entries = 16 * static_cast<std::uint64_t>(nf) + 64;
+  std::vector<std::vector<std::uint32_t>> place(parts);  // per part: counts, then next slot per cell
+  std::vector<std::uint64_t> part_entries(parts, 0);
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
+    place[p].assign(cells, 0);
+    for (std::size_t f = first_face(p); f < first_face(p + 1) && part_entries[p] <= max_entries; ++f) {
+      for_cells(boxes[f], [&](std::size_t c) { ++place[p][c], ++part_entries[p]; });
+    }
+  });
+  std::uint64_t entries = 0;
+  for (const std::uint64_t e : part_entries) entries += e;
+  if (entries > max_entries) return std::nullopt;
+  g.start.assign(cells + 1, 0);
+  std::uint32_t next = 0;
+  for (std::size_t c = 0; c < cells; ++c) {
+    g.start[c] = next;
+    for (auto& slot : place) {
+      const std::uint32_t n = slot[c];
+      slot[c] = next;
+      next += n;
+    }
   }
-  for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
-  g.start = count;
+  g.start[cells] = next;
   g.faces.resize(entries);
-  for (const Box& b : boxes) for_cells(b, [&](std::size_t c) { g.faces[count[c]++] = static_cast<std::uint32_t>(b.info()); });
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
+    for (std::size_t f = first_face(p); f < first_face(p + 1); ++f) {
+      for_cells(boxes[f], [&](std::size_t c) { g.faces[place[p][c]++] = static_cast<std::uint32_t>(f); });
+    }
+  });
   return g;
 }
+
+// A face's box in a cell, with the grid cell of the box's low corner: the low corner of two boxes'
+// overlap lies in the cell of the larger of their low cells on each axis (floor is monotonic).
+struct CellEntry {
+  const Box* box;
+  std::int32_t low_cell[3];
+};
 
 bool overlap(const Box& a, const Box& b) {
   for (int k = 0; k < 3; ++k) {
@@ -170,14 +247,15 @@ bool overlap(const Box& a, const Box& b) {
 }
 
 std::vector<Box> face_boxes(const Mesh& mesh) {
-  std::vector<Box> boxes;
-  boxes.reserve(mesh.triangles.size());
-  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
-    const Vec3 a = mesh.corner(f, 0), b = mesh.corner(f, 1), c = mesh.corner(f, 2);
-    double lo[3] = {std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
-    double hi[3] = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
-    boxes.emplace_back(lo, hi, f);
-  }
+  std::vector<Box> boxes(mesh.triangles.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t f = r.begin(); f != r.end(); ++f) {
+      const Vec3 a = mesh.corner(f, 0), b = mesh.corner(f, 1), c = mesh.corner(f, 2);
+      double lo[3] = {std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
+      double hi[3] = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
+      boxes[f] = Box(lo, hi, f);
+    }
+  });
   return boxes;
 }
 
@@ -209,17 +287,33 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh) {
     core::Progress progress("self-intersections", cells);
     std::atomic<std::size_t> done{0};
     std::mutex progress_mutex;
+    tbb::enumerable_thread_specific<std::vector<CellEntry>> scratch;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+      std::vector<CellEntry>& entries = scratch.local();
       for (std::size_t c = range.begin(); c != range.end(); ++c) {
+        if (g.start[c + 1] - g.start[c] < 2) continue;
+        const auto cell = static_cast<std::int64_t>(c);
+        const std::int32_t cell_xyz[3] = {static_cast<std::int32_t>(cell % g.dims[0]), static_cast<std::int32_t>(cell / g.dims[0] % g.dims[1]),
+                                          static_cast<std::int32_t>(cell / (g.dims[0] * g.dims[1]))};
+        entries.clear();
         for (std::uint32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
-          const Box& a = boxes[g.faces[i]];
-          for (std::uint32_t j = i + 1; j < g.start[c + 1]; ++j) {
-            const Box& b = boxes[g.faces[j]];
-            if (!overlap(a, b)) continue;
+          const Box& b = boxes[g.faces[i]];
+          entries.push_back({&b, {static_cast<std::int32_t>(g.index(b.min_coord(0), 0)), static_cast<std::int32_t>(g.index(b.min_coord(1), 1)),
+                                  static_cast<std::int32_t>(g.index(b.min_coord(2), 2))}});
+        }
+        // Sweep and prune along x: a box meets only the boxes that start before it ends.
+        std::sort(entries.begin(), entries.end(), [](const CellEntry& x, const CellEntry& y) {
+          return x.box->min_coord(0) != y.box->min_coord(0) ? x.box->min_coord(0) < y.box->min_coord(0) : x.box->info() < y.box->info();
+        });
+        for (std::size_t i = 0; i < entries.size(); ++i) {
+          const Box& a = *entries[i].box;
+          const std::int32_t* la = entries[i].low_cell;
+          for (std::size_t j = i + 1; j < entries.size() && entries[j].box->min_coord(0) <= a.max_coord(0); ++j) {
+            const Box& b = *entries[j].box;
+            const std::int32_t* lb = entries[j].low_cell;
             // Each pair once: in the cell of the low corner of the two boxes' overlap.
-            const double corner[3] = {std::max(a.min_coord(0), b.min_coord(0)), std::max(a.min_coord(1), b.min_coord(1)),
-                                      std::max(a.min_coord(2), b.min_coord(2))};
-            if (static_cast<std::size_t>(g.cell_of(corner)) != c) continue;
+            if (std::max(la[0], lb[0]) != cell_xyz[0] || std::max(la[1], lb[1]) != cell_xyz[1] || std::max(la[2], lb[2]) != cell_xyz[2]) continue;
+            if (!overlap(a, b)) continue;
             const std::size_t f = a.info(), h = b.info();
             if (hit[f].load(std::memory_order_relaxed) && hit[h].load(std::memory_order_relaxed)) continue;
             if (faces_intersect(mesh, f, h)) hit[f].store(1, std::memory_order_relaxed), hit[h].store(1, std::memory_order_relaxed);

@@ -9,6 +9,12 @@
 #include <numeric>
 #include <span>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <atomic>
+
 #include "polyaxis/mesh/properties.h"
 #include "repair_steps.h"
 
@@ -46,9 +52,57 @@ struct ComponentInfo {
   bool drop = false;
 };
 
+// The corner at VERTEX of the face of half-edge H, and the edge of that corner other than H.
+std::uint32_t other_edge_at(const Mesh& mesh, std::uint32_t h, std::uint32_t vertex) {
+  const std::uint32_t f = h / 3;
+  const std::uint32_t c = corner_of(mesh, f, vertex) % 3;  // the corner's outgoing edge is 3f+c
+  const std::uint32_t out = 3 * f + c, in = 3 * f + (c + 2) % 3;
+  return h == out ? in : out;
+}
+
+// Corners of VERTEX reached from corner C by crossing two-face edges at the vertex, both ways
+// round (a fan is a path or a cycle of corners); stops after LIMIT.
+std::uint32_t fan_size(const Mesh& mesh, const EdgeTopology& topo, std::uint32_t c, std::uint32_t vertex, std::uint32_t limit) {
+  const std::uint32_t f = c / 3, k = c % 3;
+  std::uint32_t visited = 1;
+  const std::uint32_t start_edges[2] = {3 * f + k, 3 * f + (k + 2) % 3};
+  for (const std::uint32_t first : start_edges) {
+    for (std::uint32_t e = first; visited <= limit;) {
+      const std::uint32_t o = topo.opposite[e];
+      if (o == kNoHalfEdge) break;
+      if (o / 3 == f) return visited;  // back at the start: a closed fan, walked once
+      ++visited;
+      e = other_edge_at(mesh, o, vertex);
+    }
+  }
+  return visited;
+}
+
+// True when every vertex's corners form one fan, so split_nonmanifold_vertices has nothing to do.
+// Parallel and read-only: the common case of a clean mesh costs one walk round each vertex.
+bool every_vertex_one_fan(const Mesh& mesh, const EdgeTopology& topo) {
+  const std::size_t nv = mesh.vertices.size(), nc = 3 * mesh.triangles.size();
+  std::vector<std::uint32_t> corners(nv, 0), first(nv, kNoHalfEdge);
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    const std::uint32_t v = mesh.triangles[c / 3][c % 3];
+    if (corners[v]++ == 0) first[v] = c;
+  }
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, nv, std::size_t{1} << 14), true,
+      [&](const tbb::blocked_range<std::size_t>& r, bool ok) {
+        for (std::size_t v = r.begin(); ok && v != r.end(); ++v) {
+          if (corners[v] == 0) continue;
+          ok = fan_size(mesh, topo, first[v], static_cast<std::uint32_t>(v), corners[v]) == corners[v];
+        }
+        return ok;
+      },
+      [](bool a, bool b) { return a && b; });
+}
+
 }  // namespace
 
 std::uint64_t split_nonmanifold_vertices(Mesh& mesh, const EdgeTopology& topo) {
+  if (topo.nonmanifold_edges == 0 && every_vertex_one_fan(mesh, topo)) return 0;
   const std::size_t nc = 3 * mesh.triangles.size();
   std::vector<std::uint32_t> parent(nc);
   std::iota(parent.begin(), parent.end(), 0u);
@@ -79,8 +133,56 @@ std::uint64_t split_nonmanifold_vertices(Mesh& mesh, const EdgeTopology& topo) {
   return copies;
 }
 
+// Connected components of faces across two-face edges, numbered by their lowest face, by a
+// lock-free union-find that always links the larger root under the smaller (so the roots, and the
+// numbering, do not depend on the interleaving). Used when no face needs flipping.
+std::vector<std::uint32_t> face_components(const EdgeTopology& topo, std::size_t nf) {
+  std::vector<std::atomic<std::uint32_t>> parent(nf);
+  tbb::parallel_for(std::size_t{0}, nf, [&](std::size_t f) { parent[f].store(static_cast<std::uint32_t>(f), std::memory_order_relaxed); });
+  auto find = [&](std::uint32_t x) {
+    while (true) {
+      const std::uint32_t p = parent[x].load(std::memory_order_relaxed);
+      if (p == x) return x;
+      const std::uint32_t g = parent[p].load(std::memory_order_relaxed);
+      if (g != p) {  // path halving: point X at its grandparent, an ancestor in the same tree
+        std::uint32_t expected = p;
+        parent[x].compare_exchange_weak(expected, g, std::memory_order_relaxed);
+      }
+      x = g;
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, 3 * nf, std::size_t{1} << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t h = r.begin(); h != r.end(); ++h) {
+      const std::uint32_t o = topo.opposite[h];
+      if (o == kNoHalfEdge || o < h) continue;
+      std::uint32_t a = static_cast<std::uint32_t>(h / 3), b = o / 3;
+      while (true) {
+        a = find(a);
+        b = find(b);
+        if (a == b) break;
+        if (a < b) std::swap(a, b);
+        std::uint32_t expected = a;
+        if (parent[a].compare_exchange_strong(expected, b, std::memory_order_relaxed)) break;
+      }
+    }
+  });
+  constexpr std::uint32_t kUnset = 0xffffffffu;
+  std::vector<std::uint32_t> id_of_root(nf, kUnset), component(nf);
+  std::uint32_t next_id = 0;
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint32_t r = find(f);
+    if (id_of_root[r] == kUnset) id_of_root[r] = next_id++;
+    component[f] = id_of_root[r];
+  }
+  return component;
+}
+
 core::Result<std::uint64_t> orient_faces(Mesh& mesh, const EdgeTopology& topo, std::vector<std::uint32_t>& component) {
   const std::size_t nf = mesh.triangles.size();
+  if (topo.misoriented_edges == 0) {  // every two-face edge already agrees: nothing to flip
+    component = face_components(topo, nf);
+    return std::uint64_t{0};
+  }
   constexpr std::uint32_t kUnset = 0xffffffffu;
   component.assign(nf, kUnset);
   std::vector<char> flip(nf, 0);
@@ -130,6 +232,61 @@ core::Result<std::uint64_t> orient_faces(Mesh& mesh, const EdgeTopology& topo, s
   return flipped;
 }
 
+namespace {
+
+// Box, volume and area of each component. One component (the common case) is measured in
+// parallel over fixed blocks of faces whose sums are added in block order, so the figures do not
+// depend on the thread count.
+void measure_components(const Mesh& mesh, const std::vector<std::uint32_t>& component, std::vector<ComponentInfo>& info) {
+  const std::size_t nf = mesh.triangles.size();
+  auto volume_and_area = [&](std::uint32_t f, Vec3 o) {
+    const Vec3 a = mesh.corner(f, 0) - o, b = mesh.corner(f, 1) - o, d = mesh.corner(f, 2) - o;
+    return std::pair<double, double>{dot(a, cross(b, d)), norm(cross(b - a, d - a))};
+  };
+  if (info.size() == 1) {
+    constexpr std::size_t kBlock = std::size_t{1} << 15;
+    const std::size_t blocks = (nf + kBlock - 1) / kBlock;
+    std::vector<core::Box3> box(blocks);
+    std::vector<std::pair<double, double>> sums(blocks, {0.0, 0.0});
+    auto faces = [&](std::size_t b) { return std::pair<std::size_t, std::size_t>{b * kBlock, std::min(nf, (b + 1) * kBlock)}; };
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+      for (auto [f, end] = faces(b); f < end; ++f) {
+        for (int k = 0; k < 3; ++k) box[b].add(mesh.corner(f, k));
+      }
+    });
+    for (const core::Box3& b : box) info[0].box.add(b.min), info[0].box.add(b.max);
+    const Vec3 o = (info[0].box.min + info[0].box.max) * 0.5;
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+      for (auto [f, end] = faces(b); f < end; ++f) {
+        const auto [v, a] = volume_and_area(static_cast<std::uint32_t>(f), o);
+        sums[b].first += v;
+        sums[b].second += a;
+      }
+    });
+    double six_v = 0.0, twice_a = 0.0;
+    for (const auto& [v, a] : sums) six_v += v, twice_a += a;
+    info[0].volume = six_v / 6.0;
+    info[0].area = twice_a / 2.0;
+    return;
+  }
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) info[component[f]].box.add(mesh.corner(f, k));
+  }
+  std::vector<double> six_v(info.size(), 0.0), twice_a(info.size(), 0.0);
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint32_t c = component[f];
+    const auto [v, a] = volume_and_area(f, (info[c].box.min + info[c].box.max) * 0.5);
+    six_v[c] += v;
+    twice_a[c] += a;
+  }
+  for (std::size_t c = 0; c < info.size(); ++c) {
+    info[c].volume = six_v[c] / 6.0;
+    info[c].area = twice_a[c] / 2.0;
+  }
+}
+
+}  // namespace
+
 std::vector<Shell> build_shells(Mesh& mesh, const std::vector<std::uint32_t>& component, bool closed, RepairReport& report) {
   const std::size_t nf = mesh.triangles.size();
   std::uint32_t count = 0;
@@ -147,21 +304,7 @@ std::vector<Shell> build_shells(Mesh& mesh, const std::vector<std::uint32_t>& co
   auto faces_of = [&](std::uint32_t c) {
     return std::span<const std::uint32_t>(by_component.data() + start[c], start[c + 1] - start[c]);
   };
-  for (std::uint32_t f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) info[component[f]].box.add(mesh.corner(f, k));
-  }
-  std::vector<double> six_v(count, 0.0), twice_a(count, 0.0);
-  for (std::uint32_t f = 0; f < nf; ++f) {
-    const std::uint32_t c = component[f];
-    const Vec3 o = (info[c].box.min + info[c].box.max) * 0.5;
-    const Vec3 a = mesh.corner(f, 0) - o, b = mesh.corner(f, 1) - o, d = mesh.corner(f, 2) - o;
-    six_v[c] += dot(a, cross(b, d));
-    twice_a[c] += norm(cross(b - a, d - a));
-  }
-  for (std::uint32_t c = 0; c < count; ++c) {
-    info[c].volume = six_v[c] / 6.0;
-    info[c].area = twice_a[c] / 2.0;
-  }
+  measure_components(mesh, component, info);
   if (closed && count > 1 && count <= kMaxShellsForNesting) {
     for (std::uint32_t s = 0; s < count; ++s) {
       // Probes: the centroid of the shell's largest face and up to kNestingProbes of its corners,

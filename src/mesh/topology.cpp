@@ -1,60 +1,137 @@
 #include "polyaxis/mesh/topology.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 
 #include "polyaxis/core/check.h"
 
 namespace polyaxis::mesh {
+namespace {
+
+// Faces per part of the counting sort below which one part does it all.
+constexpr std::size_t kMinFacesPerPart = std::size_t{1} << 16;
+// Vertices per task when runs are matched.
+constexpr std::size_t kVertexGrain = std::size_t{1} << 14;
+
+// A half-edge's bucket entry: its larger endpoint, whether it runs from the larger to the smaller
+// endpoint, and its id. Sorting the entries of a bucket groups the half-edges of one edge.
+std::uint64_t entry(std::uint32_t other, bool downward, std::uint32_t h) {
+  return static_cast<std::uint64_t>(other) << 33 | static_cast<std::uint64_t>(downward) << 32 | h;
+}
+std::uint32_t entry_other(std::uint64_t e) { return static_cast<std::uint32_t>(e >> 33); }
+bool entry_downward(std::uint64_t e) { return ((e >> 32) & 1u) != 0; }
+std::uint32_t entry_half_edge(std::uint64_t e) { return static_cast<std::uint32_t>(e); }
+
+// Counting sort of half-edges by their smaller endpoint, in parts over the faces, each part
+// counting and then placing its own half-edges: within a bucket the entries come in half-edge
+// order whatever the part count. Returns the bucket starts (nv + 1) and fills BUCKET.
+std::vector<std::uint32_t> bucket_half_edges(const Mesh& mesh, std::vector<std::uint64_t>& bucket) {
+  const std::size_t nv = mesh.vertices.size(), nf = mesh.triangles.size();
+  const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::size_t parts = std::clamp<std::size_t>(nf / kMinFacesPerPart, 1, threads);
+  auto first_face = [&](std::size_t p) { return nf * p / parts; };
+  std::vector<std::vector<std::uint32_t>> place(parts);  // per part: counts, then next slot per vertex
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
+    auto& count = place[p];
+    count.assign(nv, 0);
+    for (std::size_t f = first_face(p); f < first_face(p + 1); ++f) {
+      const Triangle& t = mesh.triangles[f];
+      ++count[std::min(t[0], t[1])];
+      ++count[std::min(t[1], t[2])];
+      ++count[std::min(t[2], t[0])];
+    }
+  });
+  std::vector<std::uint32_t> start(nv + 1, 0);
+  std::uint32_t next = 0;
+  for (std::size_t v = 0; v < nv; ++v) {
+    start[v] = next;
+    for (auto& slot : place) {
+      const std::uint32_t n = slot[v];
+      slot[v] = next;
+      next += n;
+    }
+  }
+  start[nv] = next;
+  bucket.resize(next);
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
+    auto& slot = place[p];
+    for (std::size_t f = first_face(p); f < first_face(p + 1); ++f) {
+      const Triangle& t = mesh.triangles[f];
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+        const auto h = static_cast<std::uint32_t>(3 * f + k);
+        bucket[slot[std::min(a, b)]++] = entry(std::max(a, b), a > b, h);
+      }
+    }
+  });
+  return start;
+}
+
+struct EdgeCounts {
+  std::uint64_t edges = 0, boundary = 0, nonmanifold = 0, misoriented = 0;
+  EdgeCounts operator+(const EdgeCounts& o) const {
+    return {edges + o.edges, boundary + o.boundary, nonmanifold + o.nonmanifold, misoriented + o.misoriented};
+  }
+};
+
+// Matches the runs of one vertex's bucket (entries of one edge), setting opposites.
+EdgeCounts match_runs(std::uint64_t* first, std::uint64_t* last, std::vector<std::uint32_t>& opposite) {
+  // Buckets hold a vertex's few edges: an insertion sort.
+  for (std::uint64_t* i = first + 1; i < last; ++i) {
+    const std::uint64_t e = *i;
+    std::uint64_t* j = i;
+    for (; j > first && *(j - 1) > e; --j) *j = *(j - 1);
+    *j = e;
+  }
+  EdgeCounts c;
+  for (std::uint64_t* it = first; it != last;) {
+    std::uint64_t* run_end = it + 1;
+    while (run_end != last && entry_other(*run_end) == entry_other(*it)) ++run_end;
+    ++c.edges;
+    const auto count = run_end - it;
+    if (count == 1) {
+      ++c.boundary;
+    } else if (count == 2) {
+      const std::uint32_t h0 = entry_half_edge(it[0]), h1 = entry_half_edge(it[1]);
+      opposite[h0] = h1;
+      opposite[h1] = h0;
+      if (entry_downward(it[0]) == entry_downward(it[1])) ++c.misoriented;
+    } else {
+      ++c.nonmanifold;
+    }
+    it = run_end;
+  }
+  return c;
+}
+
+}  // namespace
 
 EdgeTopology build_topology(const Mesh& mesh) {
   const std::size_t nv = mesh.vertices.size();
   const std::size_t nh = 3 * mesh.triangles.size();
   POLYAXIS_CHECK(nh < kNoHalfEdge, "too many half-edges for 32-bit indices");
+  POLYAXIS_CHECK(nv < (std::size_t{1} << 31), "too many vertices for the half-edge buckets");
   EdgeTopology topo;
   topo.opposite.assign(nh, kNoHalfEdge);
-
-  // Counting sort of half-edges by their smaller endpoint.
-  std::vector<std::uint32_t> start(nv + 1, 0);
-  for (const Triangle& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) ++start[std::min(t[static_cast<std::size_t>(k)], t[static_cast<std::size_t>((k + 1) % 3)]) + 1];
-  }
-  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<std::uint32_t> bucket(nh);
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::uint32_t h = 0; h < nh; ++h) {
-      const std::uint32_t a = half_edge_from(mesh, h), b = half_edge_to(mesh, h);
-      bucket[fill[std::min(a, b)]++] = h;
-    }
-  }
-  // Within a bucket, order by the larger endpoint (buckets hold a vertex's few edges), then by
-  // half-edge id for determinism.
-  auto other = [&](std::uint32_t h) { return std::max(half_edge_from(mesh, h), half_edge_to(mesh, h)); };
-  for (std::size_t v = 0; v < nv; ++v) {
-    const auto first = bucket.begin() + start[v], last = bucket.begin() + start[v + 1];
-    if (last - first > 1) {
-      std::sort(first, last, [&](std::uint32_t x, std::uint32_t y) {
-        const std::uint32_t ox = other(x), oy = other(y);
-        return ox != oy ? ox < oy : x < y;
-      });
-    }
-    for (auto it = first; it != last;) {
-      auto run_end = it + 1;
-      while (run_end != last && other(*run_end) == other(*it)) ++run_end;
-      const auto count = run_end - it;
-      ++topo.edges;
-      if (count == 1) {
-        ++topo.boundary_edges;
-      } else if (count == 2) {
-        topo.opposite[it[0]] = it[1];
-        topo.opposite[it[1]] = it[0];
-        if (half_edge_from(mesh, it[0]) == half_edge_from(mesh, it[1])) ++topo.misoriented_edges;
-      } else {
-        ++topo.nonmanifold_edges;
-      }
-      it = run_end;
-    }
-  }
+  std::vector<std::uint64_t> bucket;
+  const std::vector<std::uint32_t> start = bucket_half_edges(mesh, bucket);
+  const EdgeCounts counts = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, nv, kVertexGrain), EdgeCounts{},
+      [&](const tbb::blocked_range<std::size_t>& r, EdgeCounts c) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+          c = c + match_runs(bucket.data() + start[v], bucket.data() + start[v + 1], topo.opposite);
+        }
+        return c;
+      },
+      [](const EdgeCounts& a, const EdgeCounts& b) { return a + b; });
+  topo.edges = counts.edges;
+  topo.boundary_edges = counts.boundary;
+  topo.nonmanifold_edges = counts.nonmanifold;
+  topo.misoriented_edges = counts.misoriented;
   return topo;
 }
 

@@ -43,10 +43,25 @@ SectionContext::SectionContext(const mesh::Mesh& mesh, Vec3 direction, std::vect
 
 namespace {
 
+// Where the plane crosses face F: the above-to-below half-edge where the segment starts and the
+// below-to-above one where it ends, under the tie rule (a corner is above when its height is >= h).
 struct Segment {
-  std::uint32_t start_he;  // the above-to-below half-edge where the segment starts
-  std::uint32_t end_he;    // the below-to-above half-edge where it ends
+  std::uint32_t start_he = kNoHalfEdge;
+  std::uint32_t end_he = kNoHalfEdge;
+  bool crossed() const { return start_he != kNoHalfEdge; }
 };
+
+Segment segment_of(const SectionContext& ctx, std::uint32_t f, double h) {
+  const auto& t = ctx.mesh().triangles[f];
+  const bool above[3] = {ctx.height(t[0]) >= h, ctx.height(t[1]) >= h, ctx.height(t[2]) >= h};
+  Segment s;
+  if (above[0] == above[1] && above[1] == above[2]) return s;
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    if (above[k] && !above[(k + 1) % 3]) s.start_he = 3 * f + k;
+    if (!above[k] && above[(k + 1) % 3]) s.end_he = 3 * f + k;
+  }
+  return s;
+}
 
 // The crossing of half-edge H with the plane, in (u, v) units. Built from the edge's ends in
 // vertex-index order, so both faces of the edge get the same point bit for bit.
@@ -61,68 +76,50 @@ geom2d::Point crossing(const SectionContext& ctx, const Frame& frame, std::uint3
   return {geom2d::to_units(core::dot(p, frame.u)), geom2d::to_units(core::dot(p, frame.v))};
 }
 
+// A fresh epoch of SCRATCH's face stamps for a mesh of NF faces.
+std::uint32_t next_epoch(SectionScratch& scratch, std::size_t nf) {
+  if (scratch.stamp.size() != nf || scratch.epoch == 0xffffffffu) {
+    scratch.stamp.assign(nf, 0);
+    scratch.epoch = 0;
+  }
+  return ++scratch.epoch;
+}
+
 }  // namespace
 
+// Loops are walked face to face: the segment of face f ends on a half-edge whose twin starts the
+// segment of the next face, so a loop needs no search. Loops start at the first candidate of each,
+// in candidate order.
 SectionResult section(const SectionContext& ctx, double h, const Frame& frame, std::span<const std::uint32_t> candidates,
                       SectionScratch& scratch) {
-  const mesh::Mesh& m = ctx.mesh();
   const auto& opposite = ctx.topology().opposite;
+  const std::uint32_t epoch = next_epoch(scratch, ctx.mesh().triangles.size());
+  auto& stamp = scratch.stamp;
   SectionResult result;
-  std::vector<Segment> segments;
-  for (const std::uint32_t f : candidates) {
-    // The tie rule, once per corner: a corner is above when its height is >= h.
-    const auto& t = m.triangles[f];
-    const bool above[3] = {ctx.height(t[0]) >= h, ctx.height(t[1]) >= h, ctx.height(t[2]) >= h};
-    if (above[0] == above[1] && above[1] == above[2]) continue;  // not crossed
-    Segment s{kNoHalfEdge, kNoHalfEdge};
-    for (std::uint32_t k = 0; k < 3; ++k) {
-      const bool from_above = above[k], to_above = above[(k + 1) % 3];
-      if (from_above && !to_above) s.start_he = 3 * f + k;
-      if (!from_above && to_above) s.end_he = 3 * f + k;
-    }
-    segments.push_back(s);
-  }
-  if (segments.empty()) return result;
-  // Map from starting half-edge to segment: open addressing at load <= 1/2.
-  constexpr std::uint64_t kFree = ~std::uint64_t{0};
-  std::size_t capacity = 64;
-  while (capacity < 2 * segments.size()) capacity *= 2;
-  auto& slots = scratch.slots;
-  slots.assign(capacity, kFree);
-  const std::uint64_t mask = capacity - 1;
-  auto slot_hash = [](std::uint32_t he) { return (static_cast<std::uint64_t>(he) * 0x9E3779B97F4A7C15ULL) >> 20; };
-  for (std::uint32_t i = 0; i < segments.size(); ++i) {
-    std::uint64_t s = slot_hash(segments[i].start_he) & mask;
-    while (slots[s] != kFree) s = (s + 1) & mask;
-    slots[s] = (static_cast<std::uint64_t>(segments[i].start_he) << 32) | i;
-  }
-  auto start_of = [&](std::uint32_t he) -> std::uint32_t {
-    for (std::uint64_t s = slot_hash(he) & mask; slots[s] != kFree; s = (s + 1) & mask) {
-      if ((slots[s] >> 32) == he) return static_cast<std::uint32_t>(slots[s]);
-    }
-    return kNoHalfEdge;
-  };
-
-  std::vector<char> used(segments.size(), 0);
   std::vector<geom2d::Ring> rings;
   geom2d::Ring ring;
-  for (std::uint32_t first = 0; first < segments.size(); ++first) {
-    if (used[first]) continue;
+  for (const std::uint32_t first : candidates) {
+    if (stamp[first] == epoch) continue;
+    stamp[first] = epoch;
+    Segment s = segment_of(ctx, first, h);
+    if (!s.crossed()) continue;
     ring.clear();
-    std::uint32_t i = first;
     bool closed = false;
     while (true) {
-      used[i] = 1;
-      const geom2d::Point p = crossing(ctx, frame, segments[i].start_he, h);
+      const geom2d::Point p = crossing(ctx, frame, s.start_he, h);
       if (ring.empty() || !(ring.back() == p)) ring.push_back(p);
-      const std::uint32_t twin = opposite[segments[i].end_he];
-      const std::uint32_t next = twin == kNoHalfEdge ? kNoHalfEdge : start_of(twin);
-      if (next == first) {
-        closed = true;
+      const std::uint32_t twin = opposite[s.end_he];
+      if (twin == kNoHalfEdge) break;
+      const std::uint32_t g = twin / 3;
+      if (g == first) {
+        closed = segment_of(ctx, g, h).start_he == twin;
         break;
       }
-      if (next == kNoHalfEdge || used[next]) break;
-      i = next;
+      if (stamp[g] == epoch) break;
+      const Segment next = segment_of(ctx, g, h);
+      if (next.start_he != twin) break;  // a face turned the other way: the chain is open
+      stamp[g] = epoch;
+      s = next;
     }
     if (!closed) {
       ++result.open_chains;

@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 
 #include <cmath>
@@ -131,21 +132,38 @@ core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& opti
     while (b >= a && plane_height(base, t, b) > fmax) --b;
     return std::pair<std::int64_t, std::int64_t>{std::max<std::int64_t>(a, 0), std::min<std::int64_t>(b, last)};
   };
-  std::vector<std::uint32_t> start(n + 1, 0);
-  for (std::uint32_t f = 0; f < nf; ++f) {
-    const auto [lo, hi] = layer_range(f);
-    for (std::int64_t k = lo; k <= hi; ++k) ++start[static_cast<std::size_t>(k) + 1];
-  }
-  for (std::size_t k = 0; k < n; ++k) start[k + 1] += start[k];
-  std::vector<std::uint32_t> bucket(start[n]);
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::uint32_t f = 0; f < nf; ++f) {
+  // A counting sort of faces into the layers they span, in parts over the faces counted and placed
+  // in parallel: within a layer the faces stay in index order whatever the part count.
+  constexpr std::size_t kMinFacesPerPart = std::size_t{1} << 16;
+  const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::size_t parts = std::clamp<std::size_t>(nf / kMinFacesPerPart, 1, threads);
+  auto first_face = [&](std::size_t p) { return static_cast<std::uint32_t>(nf * p / parts); };
+  std::vector<std::vector<std::uint32_t>> place(parts);  // per part: counts, then next slot per layer
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
+    place[p].assign(n, 0);
+    for (std::uint32_t f = first_face(p); f < first_face(p + 1); ++f) {
       const auto [lo, hi] = layer_range(f);
-      for (std::int64_t k = lo; k <= hi; ++k) bucket[fill[static_cast<std::size_t>(k)]++] = f;
+      for (std::int64_t k = lo; k <= hi; ++k) ++place[p][static_cast<std::size_t>(k)];
+    }
+  });
+  std::vector<std::uint32_t> start(n + 1, 0);
+  std::uint32_t next = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    start[k] = next;
+    for (auto& slot : place) {
+      const std::uint32_t count_k = slot[k];
+      slot[k] = next;
+      next += count_k;
     }
   }
-
+  start[n] = next;
+  std::vector<std::uint32_t> bucket(next);
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
+    for (std::uint32_t f = first_face(p); f < first_face(p + 1); ++f) {
+      const auto [lo, hi] = layer_range(f);
+      for (std::int64_t k = lo; k <= hi; ++k) bucket[place[p][static_cast<std::size_t>(k)]++] = f;
+    }
+  });
   SliceResult result;
   result.layers.resize(n);
   std::vector<std::uint32_t> open(n, 0);

@@ -1,6 +1,7 @@
 // Edge adjacency of a triangle mesh: for every half-edge, its opposite half-edge when exactly two
 // faces share the edge. Built by bucketing half-edges by their smaller vertex (a counting sort),
-// so the cost is linear in the number of faces and 4 bytes per half-edge + 4 per vertex.
+// in parallel parts over the faces, so the cost is linear in the number of faces and 12 bytes per
+// half-edge + 4 per vertex and part.
 #pragma once
 
 #include <cstdint>

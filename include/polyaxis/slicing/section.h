@@ -64,10 +64,12 @@ class SectionContext {
   double min_ = 0.0, max_ = 0.0;
 };
 
-// Reusable per-thread memory for sections: an open-addressing map from a segment's starting
-// half-edge to the segment, sized to the section (not to the mesh).
+// Reusable per-thread memory for sections: a visit stamp per face of the mesh (4 bytes a face,
+// allocated on first use and cleared only when the epoch wraps), so that a section costs its
+// candidates and crossings, not the mesh. Keep one per thread and reuse it.
 struct SectionScratch {
-  std::vector<std::uint64_t> slots;  // (half-edge << 32 | segment), or ~0 when free
+  std::vector<std::uint32_t> stamp;  // stamp[f] == epoch: face f is done in this section
+  std::uint32_t epoch = 0;
 };
 
 struct SectionResult {

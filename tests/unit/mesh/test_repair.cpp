@@ -1,5 +1,6 @@
 // Repair properties: closed, manifold, outward, consistent; and one test per topology row.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 
@@ -77,6 +78,49 @@ TEST(Repair, T2SplitsNonManifoldEdge) {
   EXPECT_EQ(r.value().report.split_vertices, 2u);
   EXPECT_EQ(r.value().shells.size(), 2u);
   EXPECT_NEAR(signed_volume(r.value().mesh), 2000.0, 1e-9);
+}
+
+TEST(Repair, T2SplitsAVertexSharedByTwoFans) {
+  // Two cubes touching at the corner (10, 10, 10) only: no edge has three faces, but the vertex
+  // has two fans, so it is split.
+  auto r = repair(test::soup(test::join(test::cube(), test::box({10, 10, 10}, {20, 20, 20}))));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  expect_clean(r.value());
+  EXPECT_EQ(r.value().report.nonmanifold_edges, 0u);
+  EXPECT_EQ(r.value().report.split_vertices, 1u);
+  EXPECT_EQ(r.value().shells.size(), 2u);
+}
+
+// Two tori with their faces interleaved, large enough that components are found in parallel: the
+// same mesh and shells whatever the thread count, numbered as one pass in face order numbers them.
+TEST(Repair, ComponentsOfALargeMeshDoNotDependOnTheThreadCount) {
+  io::RawMesh a = test::torus(40, 15, 300, 150), b = test::torus(40, 15, 300, 150);
+  for (auto& p : b.points) p = {p.x + 200.0, p.y, p.z * 0.5};
+  const auto offset = static_cast<std::uint32_t>(a.points.size());
+  io::RawMesh both;
+  both.points = a.points;
+  both.points.insert(both.points.end(), b.points.begin(), b.points.end());
+  for (std::size_t f = 0; f < a.triangles.size(); ++f) {
+    both.triangles.push_back(b.triangles[f]);
+    for (auto& v : both.triangles.back()) v += offset;
+    both.triangles.push_back(a.triangles[f]);
+  }
+  RepairedMesh first;
+  for (int threads : {1, 4}) {
+    tbb::task_arena arena(threads);
+    auto r = arena.execute([&] { return repair(both); });
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    expect_clean(r.value());
+    ASSERT_EQ(r.value().shells.size(), 2u);
+    EXPECT_GT(r.value().shells[0].volume_mm3, 1.9 * r.value().shells[1].volume_mm3);  // the full torus first
+    EXPECT_EQ(r.value().report.flipped_faces, 0u);
+    if (threads == 1) {
+      first = r.value();
+    } else {
+      EXPECT_EQ(r.value().mesh.triangles, first.mesh.triangles);
+      EXPECT_EQ(r.value().mesh.vertices, first.mesh.vertices);
+    }
+  }
 }
 
 TEST(Repair, T3FlipsFacesAndInvertedShells) {

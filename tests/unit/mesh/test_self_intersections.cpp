@@ -56,5 +56,38 @@ TEST(SelfIntersections, GridFindsWhatTheBoxIntersectionFinds) {
   }
 }
 
+// Pairs of faces sharing an edge or a vertex, each with the known answer, including ones whose
+// orientation is too close to call in doubles (decided by the exact predicate).
+TEST(SelfIntersections, NeighbouringFacesMeetOnlyWhenFoldedOrCrossing) {
+  struct Case {
+    const char* name;
+    std::vector<core::Vec3> points;
+    std::vector<Triangle> faces;
+    bool intersects;
+  };
+  // On the tilted plane z = x + 2y, exactly (multiples of 2^-10), where the orientation rounds to
+  // -1.1e-8 in doubles; and one ulp off it. Only the exact predicate gets these right.
+  const core::Vec3 t0{523.15234375, 734.28125, 1991.71484375}, t1{59.4033203125, 953.595703125, 1966.5947265625},
+      t2{510.060546875, 106.1962890625, 722.453125}, t3{321.232421875, 231.8466796875, 784.92578125};
+  const core::Vec3 t3_off{t3.x, t3.y, std::nextafter(t3.z, 1e9)};
+  const std::vector<Case> cases = {
+      {"edge, folded flat onto each other", {{0, 0, 0}, {10, 0, 0}, {5, 5, 0}, {4, 3, 0}}, {{0, 1, 2}, {1, 0, 3}}, true},
+      {"edge, flat on opposite sides", {{0, 0, 0}, {10, 0, 0}, {5, 5, 0}, {4, -3, 0}}, {{0, 1, 2}, {1, 0, 3}}, false},
+      {"edge, a right-angle crease", {{0, 0, 0}, {10, 0, 0}, {5, 5, 0}, {4, 0, 3}}, {{0, 1, 2}, {1, 0, 3}}, false},
+      {"edge, folded by 1e-9 off the plane", {{0, 0, 0}, {10, 0, 0}, {5, 5, 0}, {4, 3, 1e-9}}, {{0, 1, 2}, {1, 0, 3}}, false},
+      {"edge, folded flat on a tilted plane", {t0, t1, t2, t3}, {{0, 1, 2}, {1, 0, 3}}, true},
+      {"edge, folded one ulp off a tilted plane", {t0, t1, t2, t3_off}, {{0, 1, 2}, {1, 0, 3}}, false},
+      {"vertex, far edge through the other face", {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {3, 3, -2}, {3, 3, 2}}, {{0, 1, 2}, {0, 3, 4}}, true},
+      {"vertex, far edge above the other face", {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {3, 3, 1}, {4, 2, 2}}, {{0, 1, 2}, {0, 3, 4}}, false},
+      {"vertex, coplanar and overlapping", {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {8, 1, 0}, {1, 8, 0}}, {{0, 1, 2}, {0, 3, 4}}, true},
+      {"vertex, coplanar side by side", {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {-8, 1, 0}, {-1, 8, 0}}, {{0, 1, 2}, {0, 4, 3}}, false},
+  };
+  for (const Case& c : cases) {
+    const Mesh m{c.points, c.faces};
+    EXPECT_EQ(!self_intersecting_faces(m).empty(), c.intersects) << c.name;
+    EXPECT_EQ(!detail::self_intersecting_faces_by_boxes(m).empty(), c.intersects) << c.name;
+  }
+}
+
 }  // namespace
 }  // namespace polyaxis::mesh

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/task_arena.h>
+
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/io/read_part.h"
 #include "polyaxis/mesh/properties.h"
@@ -148,6 +150,28 @@ TEST(Slice, OutputBytesDoNotDependOnThreadCount) {
     const std::string bytes = report::layers_json(r.value(), {"impeller", o});
     if (first.empty()) first = bytes;
     EXPECT_EQ(bytes, first) << threads << " threads";
+  }
+}
+
+// A mesh large enough that faces are bucketed into layers in several parts (one per thread of the
+// arena): the layers do not depend on the part count.
+TEST(Slice, LayersOfALargeMeshDoNotDependOnThePartCount) {
+  const mesh::Mesh m = repaired(test::torus(40, 15, 400, 200));  // 160 000 faces
+  ASSERT_GE(m.triangles.size(), 4u * 65536u / 2u);
+  std::string first;
+  for (int threads : {1, 4}) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      SliceOptions o;
+      o.direction = {0.3, -0.2, 1};
+      o.layer_mm = 0.5;
+      auto r = slice(m, o);
+      ASSERT_TRUE(r.ok());
+      expect_valid_layers(r.value());
+      const std::string bytes = report::layers_json(r.value(), {"torus", o});
+      if (first.empty()) first = bytes;
+      EXPECT_EQ(bytes, first) << threads << " threads";
+    });
   }
 }
 
