@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "huge_pages.h"
 #include "polyaxis/core/check.h"
 #include "polyaxis/core/progress.h"
 
@@ -32,6 +33,7 @@ int with_stdout_checked(int code) {
 
 int main(int argc, char** argv) {
   using namespace polyaxis;
+  app::use_huge_pages(argv);
   CLI::App app{"polyaxis: process planner for multi-axis layered manufacturing"};
   app.require_subcommand(1);
   app.fallthrough();  // --quiet works before or after the subcommand

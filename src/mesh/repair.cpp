@@ -337,7 +337,7 @@ core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options)
   out.topology = std::move(topo);
 
   if (options.check_self_intersections) {
-    out.self_intersecting = self_intersecting_faces(mesh);
+    out.self_intersecting = self_intersecting_faces(mesh, &out.topology);
     report.self_intersecting_faces = out.self_intersecting.size();
     if (options.strict && !out.self_intersecting.empty()) {
       return core::make_error(ErrorCode::kInfeasible,

@@ -2,8 +2,11 @@
 // pairs of faces whose bounding boxes overlap, found in a uniform grid of cells about twice a
 // face's size (each pair taken once, in the cell holding the low corner of the two boxes'
 // overlap) and checked cell by cell in parallel; CGAL's box_intersection_d where the faces are
-// too uneven for a grid. Then exact predicates (Epick), after a filter for faces sharing a vertex
-// (one face's far edge strictly on one side of the other's plane: they meet at the vertex only):
+// too uneven for a grid. Faces sharing a vertex whose fan is proven to project one to one onto a
+// plane (embedded_fans: nearly every vertex of a clean mesh) meet only along their shared edge or
+// vertex and are passed over. The other pairs go to exact predicates (Epick), after a filter for
+// faces sharing a vertex (one face's far edge surely on one side of the other's plane, in doubles
+// under Shewchuk's error bound, then exactly: they meet at the vertex only):
 // - no shared vertex: do_intersect(triangle, triangle);
 // - one shared vertex: the opposite edge of either face meets the other face;
 // - a shared edge: the two opposite vertices are coplanar with the edge and on the same side.
@@ -21,6 +24,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <mutex>
@@ -38,6 +42,8 @@ using Segment3 = Kernel::Segment_3;
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
 
 Point to_point(Vec3 v) { return {v.x, v.y, v.z}; }
+
+constexpr std::size_t kMinFacesPerPart = std::size_t{1} << 16;  // faces per part of a parallel count
 
 // The sign of the orientation of D against the plane of (A, B, C) in doubles, when a forward error
 // bound proves it (Shewchuk's orient3d with his bound o3derrboundA); 0 when it does not, and the
@@ -62,7 +68,9 @@ int sure_orientation(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
   return 0;
 }
 
-bool faces_intersect(const Mesh& mesh, std::size_t f, std::size_t g) {
+// EMBEDDED (optional): vertices whose fan is proven to meet itself only along its edges (see
+// embedded_fans); two faces sharing such a vertex do not intersect.
+bool faces_intersect(const Mesh& mesh, std::size_t f, std::size_t g, const std::vector<std::uint8_t>* embedded = nullptr) {
   const Triangle& a = mesh.triangles[f];
   const Triangle& b = mesh.triangles[g];
   int shared = 0;
@@ -73,6 +81,7 @@ bool faces_intersect(const Mesh& mesh, std::size_t f, std::size_t g) {
         ++shared;
         ia = i;
         ib = j;
+        if (embedded != nullptr && (*embedded)[a[static_cast<std::size_t>(i)]]) return false;
       }
     }
   }
@@ -125,12 +134,126 @@ bool faces_intersect(const Mesh& mesh, std::size_t f, std::size_t g) {
   return true;  // three shared vertices: a duplicate face
 }
 
+
+// The corner at VERTEX of the face of half-edge H, and the edge of that corner other than H.
+std::uint32_t other_edge_at(const Mesh& mesh, std::uint32_t h, std::uint32_t vertex) {
+  const std::uint32_t f = h / 3;
+  const Triangle& t = mesh.triangles[f];
+  const std::uint32_t c = t[0] == vertex ? 0u : (t[1] == vertex ? 1u : 2u);
+  const std::uint32_t out = 3 * f + c, in = 3 * f + (c + 2) % 3;
+  return h == out ? in : out;
+}
+
+// Margin of the fan proof below: a corner's projected sine, relative to its edges, at the least.
+// Rounding in the doubles used is about 1e-15 relative, so a wedge kept as positive is positive and
+// spans a pseudo-angle far above the rounding of the pseudo-angles.
+constexpr double kWedgeMargin = 1e-9;
+constexpr double kTurnSlack = 1e-6;  // in quarter turns of pseudo-angle
+
+// A monotone stand-in for the angle of (X, Y) in [0, 4): a quarter turn per quadrant, no atan2.
+double pseudo_angle(double x, double y) {
+  if (y >= 0.0) return x >= 0.0 ? y / (x + y) : 1.0 - x / (y - x);
+  return x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+}
+
+// Whether the fan of VERTEX, walked from corner C0 across two-face edges, covers all CORNERS of the
+// vertex and projects one to one onto the plane normal to the fan's mean normal: every corner's
+// wedge turns the same way by a margin, and the wedges go round once (a closed fan) or less than
+// once (an open one). Then two faces of the fan meet only at the vertex or along a shared edge:
+// their projections meet only there. Each wedge's turn is the difference of its edges'
+// pseudo-angles (mod 4); over a closed fan they add up to 4 per turn round the vertex.
+bool fan_is_embedded(const Mesh& mesh, const EdgeTopology& topo, std::uint32_t vertex, std::uint32_t c0, std::uint32_t corners,
+                     std::vector<std::uint32_t>& fan) {
+  fan.assign(1, c0 / 3);
+  bool closed = false;
+  const std::uint32_t f0 = c0 / 3, k0 = c0 % 3;
+  const std::uint32_t start_edges[2] = {3 * f0 + k0, 3 * f0 + (k0 + 2) % 3};
+  for (const std::uint32_t first : start_edges) {
+    for (std::uint32_t e = first; fan.size() <= corners;) {
+      const std::uint32_t o = topo.opposite[e];
+      if (o == kNoHalfEdge) break;
+      if (o / 3 == f0) {
+        closed = true;
+        break;
+      }
+      fan.push_back(o / 3);
+      e = other_edge_at(mesh, o, vertex);
+    }
+    if (closed) break;
+  }
+  if (fan.size() != corners) return false;
+  const Vec3 p = mesh.vertices[vertex];
+  Vec3 n{0, 0, 0};
+  for (const std::uint32_t f : fan) n = n + face_area_vector(mesh, f);
+  const double length = norm(n);
+  if (!(length > 0.0)) return false;
+  n = n / length;
+  const Vec3 ref = std::fabs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 u = normalized(ref - n * dot(ref, n)), w = cross(n, u);
+  double turn = 0.0;
+  for (const std::uint32_t f : fan) {
+    const Triangle& t = mesh.triangles[f];
+    const std::size_t c = t[0] == vertex ? 0 : (t[1] == vertex ? 1 : 2);
+    const Vec3 e1 = mesh.vertices[t[(c + 1) % 3]] - p, e2 = mesh.vertices[t[(c + 2) % 3]] - p;
+    if (!(dot(n, cross(e1, e2)) > kWedgeMargin * norm(e1) * norm(e2))) return false;
+    double d = pseudo_angle(dot(e2, u), dot(e2, w)) - pseudo_angle(dot(e1, u), dot(e1, w));
+    if (d < 0.0) d += 4.0;
+    turn += d;
+  }
+  return closed ? std::fabs(turn - 4.0) < kTurnSlack : turn < 4.0 - kTurnSlack;
+}
+
+// Corners per vertex and each vertex's lowest corner, counted in parallel parts over the faces.
+void count_corners(const Mesh& mesh, std::vector<std::uint32_t>& corners, std::vector<std::uint32_t>& first) {
+  const std::size_t nv = mesh.vertices.size(), nf = mesh.triangles.size();
+  const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const std::size_t parts = std::clamp<std::size_t>(nf / kMinFacesPerPart, 1, threads);
+  std::vector<std::vector<std::uint32_t>> count(parts), lowest(parts);
+  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
+    count[p].assign(nv, 0);
+    lowest[p].assign(nv, kNoHalfEdge);
+    for (std::size_t f = nf * p / parts; f < nf * (p + 1) / parts; ++f) {
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t v = mesh.triangles[f][k];
+        if (count[p][v]++ == 0) lowest[p][v] = static_cast<std::uint32_t>(3 * f + k);
+      }
+    }
+  });
+  corners = std::move(count[0]);
+  first = std::move(lowest[0]);
+  for (std::size_t p = 1; p < parts; ++p) {
+    for (std::size_t v = 0; v < nv; ++v) {
+      if (corners[v] == 0) first[v] = lowest[p][v];
+      corners[v] += count[p][v];
+    }
+  }
+}
+
+// Per vertex, whether its fan is proven embedded (fan_is_embedded). On a clean mesh nearly every
+// vertex is, so the neighbouring pairs, most of the candidates, need no predicate; the others are
+// decided exactly.
+std::vector<std::uint8_t> embedded_fans(const Mesh& mesh, const EdgeTopology& topo) {
+  const std::size_t nv = mesh.vertices.size();
+  std::vector<std::uint32_t> corners, first;
+  count_corners(mesh, corners, first);
+  std::vector<std::uint8_t> embedded(nv, 0);
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> scratch;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, std::size_t{1} << 12), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<std::uint32_t>& fan = scratch.local();
+    for (std::size_t v = r.begin(); v != r.end(); ++v) {
+      if (corners[v] > 0) embedded[v] = fan_is_embedded(mesh, topo, static_cast<std::uint32_t>(v), first[v], corners[v], fan) ? 1 : 0;
+    }
+  });
+  return embedded;
+}
+
 }  // namespace
 
 namespace {
 
 // Candidate pairs from CGAL's box intersection (sequential): the fallback for uneven meshes.
-void mark_by_boxes(const Mesh& mesh, const std::vector<Box>& boxes, std::vector<std::atomic<unsigned char>>& hit) {
+void mark_by_boxes(const Mesh& mesh, const std::vector<Box>& boxes, std::vector<std::atomic<unsigned char>>& hit,
+                   const std::vector<std::uint8_t>* embedded) {
   std::vector<Box> work = boxes;
   core::Progress progress("self-intersections", 0);  // candidate pairs checked (the total is not known)
   std::uint64_t pairs = 0;
@@ -138,7 +261,7 @@ void mark_by_boxes(const Mesh& mesh, const std::vector<Box>& boxes, std::vector<
     if ((++pairs & 0xffff) == 0) progress.update(pairs);
     const std::size_t f = x.info(), g = y.info();
     if (hit[f].load(std::memory_order_relaxed) && hit[g].load(std::memory_order_relaxed)) return;
-    if (faces_intersect(mesh, f, g)) hit[f].store(1, std::memory_order_relaxed), hit[g].store(1, std::memory_order_relaxed);
+    if (faces_intersect(mesh, f, g, embedded)) hit[f].store(1, std::memory_order_relaxed), hit[g].store(1, std::memory_order_relaxed);
   };
   CGAL::box_self_intersection_d<CGAL::Sequential_tag>(work.begin(), work.end(), callback);
 }
@@ -154,8 +277,6 @@ struct FaceGrid {
   std::int64_t index(const double* p, int k) const { return index(p[k], k); }
   std::int64_t cell_of(const double* p) const { return (index(p, 2) * dims[1] + index(p, 1)) * dims[0] + index(p, 0); }
 };
-
-constexpr std::size_t kMinFacesPerPart = std::size_t{1} << 16;
 
 // The grid, or none when the faces are too uneven for one (a face spanning many cells).
 std::optional<FaceGrid> make_grid(const std::vector<Box>& boxes) {
@@ -271,22 +392,29 @@ std::vector<std::uint32_t> marked(const std::vector<std::atomic<unsigned char>>&
 
 std::vector<std::uint32_t> detail::self_intersecting_faces_by_boxes(const Mesh& mesh) {
   std::vector<std::atomic<unsigned char>> hit(mesh.triangles.size());
-  mark_by_boxes(mesh, face_boxes(mesh), hit);
+  mark_by_boxes(mesh, face_boxes(mesh), hit, nullptr);  // every pair decided by the predicates alone
   return marked(hit);
 }
 
-std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh) {
+std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeTopology* topology) {
   const std::vector<Box> boxes = face_boxes(mesh);
   std::vector<std::atomic<unsigned char>> hit(mesh.triangles.size());
+  const std::vector<std::uint8_t> embedded = embedded_fans(mesh, topology != nullptr ? *topology : build_topology(mesh));
   const std::optional<FaceGrid> grid = make_grid(boxes);
   if (!grid) {
-    mark_by_boxes(mesh, boxes, hit);
+    mark_by_boxes(mesh, boxes, hit, &embedded);
   } else {
     const FaceGrid& g = *grid;
     const std::size_t cells = g.start.size() - 1;
     core::Progress progress("self-intersections", cells);
     std::atomic<std::size_t> done{0};
     std::mutex progress_mutex;
+    std::vector<std::array<std::int32_t, 3>> low_cell(boxes.size());  // the grid cell of each box's low corner
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t f = r.begin(); f != r.end(); ++f) {
+        for (int k = 0; k < 3; ++k) low_cell[f][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(g.index(boxes[f].min_coord(k), k));
+      }
+    });
     tbb::enumerable_thread_specific<std::vector<CellEntry>> scratch;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
       std::vector<CellEntry>& entries = scratch.local();
@@ -297,9 +425,8 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh) {
                                           static_cast<std::int32_t>(cell / (g.dims[0] * g.dims[1]))};
         entries.clear();
         for (std::uint32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
-          const Box& b = boxes[g.faces[i]];
-          entries.push_back({&b, {static_cast<std::int32_t>(g.index(b.min_coord(0), 0)), static_cast<std::int32_t>(g.index(b.min_coord(1), 1)),
-                                  static_cast<std::int32_t>(g.index(b.min_coord(2), 2))}});
+          const std::uint32_t f = g.faces[i];
+          entries.push_back({&boxes[f], {low_cell[f][0], low_cell[f][1], low_cell[f][2]}});
         }
         // Sweep and prune along x: a box meets only the boxes that start before it ends.
         std::sort(entries.begin(), entries.end(), [](const CellEntry& x, const CellEntry& y) {
@@ -316,7 +443,7 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh) {
             if (!overlap(a, b)) continue;
             const std::size_t f = a.info(), h = b.info();
             if (hit[f].load(std::memory_order_relaxed) && hit[h].load(std::memory_order_relaxed)) continue;
-            if (faces_intersect(mesh, f, h)) hit[f].store(1, std::memory_order_relaxed), hit[h].store(1, std::memory_order_relaxed);
+            if (faces_intersect(mesh, f, h, &embedded)) hit[f].store(1, std::memory_order_relaxed), hit[h].store(1, std::memory_order_relaxed);
           }
         }
       }

@@ -70,7 +70,7 @@ TEST(SelfIntersections, NeighbouringFacesMeetOnlyWhenFoldedOrCrossing) {
   const core::Vec3 t0{523.15234375, 734.28125, 1991.71484375}, t1{59.4033203125, 953.595703125, 1966.5947265625},
       t2{510.060546875, 106.1962890625, 722.453125}, t3{321.232421875, 231.8466796875, 784.92578125};
   const core::Vec3 t3_off{t3.x, t3.y, std::nextafter(t3.z, 1e9)};
-  const std::vector<Case> cases = {
+  std::vector<Case> cases = {
       {"edge, folded flat onto each other", {{0, 0, 0}, {10, 0, 0}, {5, 5, 0}, {4, 3, 0}}, {{0, 1, 2}, {1, 0, 3}}, true},
       {"edge, flat on opposite sides", {{0, 0, 0}, {10, 0, 0}, {5, 5, 0}, {4, -3, 0}}, {{0, 1, 2}, {1, 0, 3}}, false},
       {"edge, a right-angle crease", {{0, 0, 0}, {10, 0, 0}, {5, 5, 0}, {4, 0, 3}}, {{0, 1, 2}, {1, 0, 3}}, false},
@@ -82,6 +82,24 @@ TEST(SelfIntersections, NeighbouringFacesMeetOnlyWhenFoldedOrCrossing) {
       {"vertex, coplanar and overlapping", {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {8, 1, 0}, {1, 8, 0}}, {{0, 1, 2}, {0, 3, 4}}, true},
       {"vertex, coplanar side by side", {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {-8, 1, 0}, {-1, 8, 0}}, {{0, 1, 2}, {0, 4, 3}}, false},
   };
+  // Fans round one vertex whose wedges all turn the same way but wind past a full turn: the second
+  // turn lies inside the first, in its plane.
+  {
+    Case open{"vertex, an open fan wound past a full turn", {{0, 0, 0}}, {}, true};
+    for (int i = 0; i <= 5; ++i) {
+      const double r = i < 4 ? 10.0 : 8.0, a = M_PI / 2 * i;
+      open.points.push_back({r * std::cos(a), r * std::sin(a), 0});
+    }
+    for (std::uint32_t i = 1; i <= 5; ++i) open.faces.push_back({0, i, i + 1});
+    cases.push_back(open);
+    Case closed{"vertex, a closed fan wound twice", {{0, 0, 0}}, {}, true};
+    for (int i = 0; i < 8; ++i) {
+      const double r = i < 4 ? 10.0 : 5.0, a = M_PI / 2 * i;
+      closed.points.push_back({r * std::cos(a), r * std::sin(a), 0});
+    }
+    for (std::uint32_t i = 0; i < 8; ++i) closed.faces.push_back({0, 1 + i, 1 + (i + 1) % 8});
+    cases.push_back(closed);
+  }
   for (const Case& c : cases) {
     const Mesh m{c.points, c.faces};
     EXPECT_EQ(!self_intersecting_faces(m).empty(), c.intersects) << c.name;
