@@ -72,17 +72,41 @@ std::vector<Polygon> from_tree(const ClipperLib::PolyTree& tree) {
 
 namespace {
 
-// Clipper's output never has crossing edges, but a ring may touch itself or another at a vertex.
+// Clipper's output never has crossing edges, but a ring may touch itself or another at a vertex:
+// a vertex that appears twice, found with a hash set (open addressing at load <= 1/2).
 bool has_touching_vertices(const std::vector<Polygon>& polys) {
-  std::vector<std::pair<std::int64_t, std::int64_t>> points;
+  std::size_t count = 0;
   for (const Polygon& p : polys) {
-    for (const Point& q : p.outer) points.emplace_back(q.x, q.y);
+    count += p.outer.size();
+    for (const Ring& h : p.holes) count += h.size();
+  }
+  std::size_t capacity = 16;
+  while (capacity < 2 * count) capacity *= 2;
+  thread_local std::vector<const Point*> slots;
+  slots.assign(capacity, nullptr);
+  const std::uint64_t mask = capacity - 1;
+  auto seen_before = [&](const Point& q) {
+    std::uint64_t h = static_cast<std::uint64_t>(q.x) * 0x9E3779B97F4A7C15ULL ^ static_cast<std::uint64_t>(q.y) * 0xC2B2AE3D27D4EB4FULL;
+    h ^= h >> 31;
+    for (std::uint64_t s = h & mask;; s = (s + 1) & mask) {
+      if (slots[s] == nullptr) {
+        slots[s] = &q;
+        return false;
+      }
+      if (*slots[s] == q) return true;
+    }
+  };
+  for (const Polygon& p : polys) {
+    for (const Point& q : p.outer) {
+      if (seen_before(q)) return true;
+    }
     for (const Ring& h : p.holes) {
-      for (const Point& q : h) points.emplace_back(q.x, q.y);
+      for (const Point& q : h) {
+        if (seen_before(q)) return true;
+      }
     }
   }
-  std::sort(points.begin(), points.end());
-  return std::adjacent_find(points.begin(), points.end()) != points.end();
+  return false;
 }
 
 std::vector<Polygon> union_impl(const std::vector<Ring>& rings, FillRule fill_rule, bool strictly_simple) {

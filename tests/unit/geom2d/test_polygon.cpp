@@ -43,6 +43,31 @@ TEST(Clip, NonZeroUnionOfOverlaps) {
   EXPECT_DOUBLE_EQ(area_mm2(polys[0]), 175.0);
 }
 
+// Rings that touch at a vertex come out as simple rings that share the vertex, never as one ring
+// through it twice (the strictly-simple pass runs when the plain union leaves a repeated vertex).
+TEST(Clip, UnionOfRingsTouchingAtAVertexGivesSimpleRings) {
+  const std::int64_t mm = to_units(1);
+  // Two squares corner to corner, as two rings and as one ring through the corner twice (which
+  // Clipper's plain union hands back as it is); a hole whose corner lies on the outer ring.
+  const Ring hole = {{10 * mm, 0}, {5 * mm, 5 * mm}, {10 * mm, 10 * mm}, {15 * mm, 5 * mm}};
+  const Ring figure_eight = {{0, 0}, {10 * mm, 0}, {10 * mm, 10 * mm}, {20 * mm, 10 * mm}, {20 * mm, 20 * mm}, {10 * mm, 20 * mm}, {10 * mm, 10 * mm}, {0, 10 * mm}};
+  const std::vector<std::pair<std::vector<Ring>, double>> cases = {
+      {{square(0, 0, 20 * mm), hole}, 400.0 - 50.0},
+      {{square(0, 0, 10 * mm), square(10 * mm, 10 * mm, 10 * mm)}, 200.0},
+      {{figure_eight}, 200.0},
+  };
+  for (const auto& [rings, want] : cases) {
+    const auto polys = union_rings(rings, FillRule::kNonZero);
+    double area = 0.0;
+    for (const Polygon& p : polys) {
+      EXPECT_TRUE(is_simple(p.outer));
+      for (const Ring& h : p.holes) EXPECT_TRUE(is_simple(h));
+      area += area_mm2(p);
+    }
+    EXPECT_NEAR(area, want, 1e-9);
+  }
+}
+
 TEST(Clip, OffsetShrinksASquare) {
   const std::int64_t mm = to_units(1);
   const auto polys = offset({Polygon{square(0, 0, 10 * mm), {}}}, -1.0);
