@@ -27,6 +27,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <optional>
 
@@ -266,6 +267,33 @@ void mark_by_boxes(const Mesh& mesh, const std::vector<Box>& boxes, std::vector<
   CGAL::box_self_intersection_d<CGAL::Sequential_tag>(work.begin(), work.end(), callback);
 }
 
+// A face's bounding box in floats rounded outwards (a box that holds the face's box): the grid's
+// candidates are a superset of the exact ones, and the predicates decide them.
+struct FaceBox {
+  float lo[3], hi[3];
+};
+
+float below(double v) {
+  const auto f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float above(double v) {
+  const auto f = static_cast<float>(v);
+  return static_cast<double>(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+std::vector<FaceBox> face_float_boxes(const Mesh& mesh) {
+  std::vector<FaceBox> boxes(mesh.triangles.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t f = r.begin(); f != r.end(); ++f) {
+      const Vec3 a = mesh.corner(f, 0), b = mesh.corner(f, 1), c = mesh.corner(f, 2);
+      boxes[f] = {{below(std::min({a.x, b.x, c.x})), below(std::min({a.y, b.y, c.y})), below(std::min({a.z, b.z, c.z}))},
+                  {above(std::max({a.x, b.x, c.x})), above(std::max({a.y, b.y, c.y})), above(std::max({a.z, b.z, c.z}))}};
+    }
+  });
+  return boxes;
+}
+
 // A uniform grid over the faces' boxes: for each cell, the faces whose boxes reach into it.
 struct FaceGrid {
   double origin[3] = {0, 0, 0}, cell = 1.0;
@@ -279,16 +307,16 @@ struct FaceGrid {
 };
 
 // The grid, or none when the faces are too uneven for one (a face spanning many cells).
-std::optional<FaceGrid> make_grid(const std::vector<Box>& boxes) {
+std::optional<FaceGrid> make_grid(const std::vector<FaceBox>& boxes) {
   if (boxes.empty()) return std::nullopt;
   FaceGrid g;
-  double lo[3] = {boxes[0].min_coord(0), boxes[0].min_coord(1), boxes[0].min_coord(2)}, hi[3] = {lo[0], lo[1], lo[2]};
+  double lo[3] = {boxes[0].lo[0], boxes[0].lo[1], boxes[0].lo[2]}, hi[3] = {lo[0], lo[1], lo[2]};
   double mean_size = 0.0;
-  for (const Box& b : boxes) {
+  for (const FaceBox& b : boxes) {
     double size = 0.0;
     for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], b.min_coord(k)), hi[k] = std::max(hi[k], b.max_coord(k));
-      size = std::max(size, b.max_coord(k) - b.min_coord(k));
+      lo[k] = std::min<double>(lo[k], b.lo[k]), hi[k] = std::max<double>(hi[k], b.hi[k]);
+      size = std::max<double>(size, b.hi[k] - b.lo[k]);
     }
     mean_size += size;
   }
@@ -309,8 +337,8 @@ std::optional<FaceGrid> make_grid(const std::vector<Box>& boxes) {
   // Counting sort of (cell, face) entries in parts over the faces, counted and placed in parallel
   // (within a cell the faces stay in index order); too many entries means faces far larger than
   // the cell.
-  auto for_cells = [&](const Box& b, auto&& visit) {
-    const double l[3] = {b.min_coord(0), b.min_coord(1), b.min_coord(2)}, h[3] = {b.max_coord(0), b.max_coord(1), b.max_coord(2)};
+  auto for_cells = [&](const FaceBox& b, auto&& visit) {
+    const double l[3] = {b.lo[0], b.lo[1], b.lo[2]}, h[3] = {b.hi[0], b.hi[1], b.hi[2]};
     for (std::int64_t z = g.index(l, 2); z <= g.index(h, 2); ++z) {
       for (std::int64_t y = g.index(l, 1); y <= g.index(h, 1); ++y) {
         for (std::int64_t x = g.index(l, 0); x <= g.index(h, 0); ++x) visit(static_cast<std::size_t>((z * g.dims[1] + y) * g.dims[0] + x));
@@ -356,13 +384,14 @@ std::optional<FaceGrid> make_grid(const std::vector<Box>& boxes) {
 // A face's box in a cell, with the grid cell of the box's low corner: the low corner of two boxes'
 // overlap lies in the cell of the larger of their low cells on each axis (floor is monotonic).
 struct CellEntry {
-  const Box* box;
+  FaceBox box;
+  std::uint32_t face;
   std::int32_t low_cell[3];
 };
 
-bool overlap(const Box& a, const Box& b) {
+bool overlap(const FaceBox& a, const FaceBox& b) {
   for (int k = 0; k < 3; ++k) {
-    if (a.max_coord(k) < b.min_coord(k) || b.max_coord(k) < a.min_coord(k)) return false;
+    if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
   }
   return true;
 }
@@ -397,12 +426,12 @@ std::vector<std::uint32_t> detail::self_intersecting_faces_by_boxes(const Mesh& 
 }
 
 std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeTopology* topology) {
-  const std::vector<Box> boxes = face_boxes(mesh);
+  const std::vector<FaceBox> boxes = face_float_boxes(mesh);
   std::vector<std::atomic<unsigned char>> hit(mesh.triangles.size());
   const std::vector<std::uint8_t> embedded = embedded_fans(mesh, topology != nullptr ? *topology : build_topology(mesh));
   const std::optional<FaceGrid> grid = make_grid(boxes);
   if (!grid) {
-    mark_by_boxes(mesh, boxes, hit, &embedded);
+    mark_by_boxes(mesh, face_boxes(mesh), hit, &embedded);
   } else {
     const FaceGrid& g = *grid;
     const std::size_t cells = g.start.size() - 1;
@@ -412,7 +441,7 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeT
     std::vector<std::array<std::int32_t, 3>> low_cell(boxes.size());  // the grid cell of each box's low corner
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t f = r.begin(); f != r.end(); ++f) {
-        for (int k = 0; k < 3; ++k) low_cell[f][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(g.index(boxes[f].min_coord(k), k));
+        for (int k = 0; k < 3; ++k) low_cell[f][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(g.index(boxes[f].lo[k], k));
       }
     });
     tbb::enumerable_thread_specific<std::vector<CellEntry>> scratch;
@@ -426,22 +455,22 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeT
         entries.clear();
         for (std::uint32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
           const std::uint32_t f = g.faces[i];
-          entries.push_back({&boxes[f], {low_cell[f][0], low_cell[f][1], low_cell[f][2]}});
+          entries.push_back({boxes[f], f, {low_cell[f][0], low_cell[f][1], low_cell[f][2]}});
         }
         // Sweep and prune along x: a box meets only the boxes that start before it ends.
         std::sort(entries.begin(), entries.end(), [](const CellEntry& x, const CellEntry& y) {
-          return x.box->min_coord(0) != y.box->min_coord(0) ? x.box->min_coord(0) < y.box->min_coord(0) : x.box->info() < y.box->info();
+          return x.box.lo[0] != y.box.lo[0] ? x.box.lo[0] < y.box.lo[0] : x.face < y.face;
         });
         for (std::size_t i = 0; i < entries.size(); ++i) {
-          const Box& a = *entries[i].box;
+          const FaceBox& a = entries[i].box;
           const std::int32_t* la = entries[i].low_cell;
-          for (std::size_t j = i + 1; j < entries.size() && entries[j].box->min_coord(0) <= a.max_coord(0); ++j) {
-            const Box& b = *entries[j].box;
+          for (std::size_t j = i + 1; j < entries.size() && entries[j].box.lo[0] <= a.hi[0]; ++j) {
+            const FaceBox& b = entries[j].box;
             const std::int32_t* lb = entries[j].low_cell;
             // Each pair once: in the cell of the low corner of the two boxes' overlap.
             if (std::max(la[0], lb[0]) != cell_xyz[0] || std::max(la[1], lb[1]) != cell_xyz[1] || std::max(la[2], lb[2]) != cell_xyz[2]) continue;
             if (!overlap(a, b)) continue;
-            const std::size_t f = a.info(), h = b.info();
+            const std::size_t f = entries[i].face, h = entries[j].face;
             if (hit[f].load(std::memory_order_relaxed) && hit[h].load(std::memory_order_relaxed)) continue;
             if (faces_intersect(mesh, f, h, &embedded)) hit[f].store(1, std::memory_order_relaxed), hit[h].store(1, std::memory_order_relaxed);
           }

@@ -107,5 +107,20 @@ TEST(SelfIntersections, NeighbouringFacesMeetOnlyWhenFoldedOrCrossing) {
   }
 }
 
+// Faces that only touch, at coordinates no float holds: the grid's boxes (floats) must be rounded
+// outwards, or the touching pair is never a candidate.
+TEST(SelfIntersections, FacesTouchingAtCoordinatesNoFloatHolds) {
+  const double z = 0.1, x = 1.0 / 3.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<core::Vec3> points = {{-5, -5, z}, {5, -5, z}, {0, 5, z}, {x, x, z}, {x + 2, x, z + 4}, {x, x + 2, z + 4}};
+    for (auto& p : points) {  // the same pair with the touching plane across each axis
+      for (int k = 0; k < axis; ++k) p = {p.z, p.x, p.y};
+    }
+    const Mesh m{points, {{0, 1, 2}, {3, 4, 5}}};
+    EXPECT_EQ(self_intersecting_faces(m).size(), 2u) << axis;
+    EXPECT_EQ(detail::self_intersecting_faces_by_boxes(m).size(), 2u) << axis;
+  }
+}
+
 }  // namespace
 }  // namespace polyaxis::mesh
