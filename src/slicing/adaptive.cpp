@@ -147,6 +147,12 @@ core::Result<SliceResult> slice_adaptive(const SectionContext& ctx, const SliceO
     }
     return true;
   };
+  // Whether the section T above the bottom lies within the bottom section: nothing to hold up.
+  auto narrows = [&](double t, const std::vector<std::uint32_t>& span_faces, const SectionResult& b) {
+    const double at = std::min(h + t, top - 1e-9 * std::max(1.0, std::fabs(top)));
+    const SectionResult s = cut(at, span_faces);
+    return geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of(s.polygons), geom2d::rings_of(b.polygons))) <= kOverhangAreaMm2;
+  };
 
   while (h < top) {
     faces = &window.span(h, h + t_max);
@@ -177,13 +183,21 @@ core::Result<SliceResult> slice_adaptive(const SectionContext& ctx, const SliceO
     }
     // A remainder thinner than ΔL_min above this layer would be a layer the process cannot lay:
     // this one takes it, or the rest is split in two equal layers, where that stays within ΔL_max
-    // and the limits (else the thin top layer stays).
+    // and the limits. Where neither meets the limits but the part narrows there (a dome's top,
+    // where the cusp limit binds), the range wins over the limits: this layer takes the rest, or
+    // the two share it, counted in limit_violations. A top that still overhangs keeps its thin
+    // layer rather than a thick one the layer below cannot hold.
     if (const double rest = top - (h + t); rest > 0.0 && rest < o.min_mm * (1.0 - 1e-9)) {
       const double half = 0.5 * (top - h);
-      if (t + rest <= o.max_mm * (1.0 + 1e-9) && admissible(t + rest, *faces, bottom)) {
+      const bool whole_fits = t + rest <= o.max_mm * (1.0 + 1e-9);
+      const bool halves_fit = half >= o.min_mm * (1.0 - 1e-9) && half <= o.max_mm * (1.0 + 1e-9);
+      if (whole_fits && admissible(t + rest, *faces, bottom)) {
         t += rest;
-      } else if (half >= o.min_mm * (1.0 - 1e-9) && half <= o.max_mm * (1.0 + 1e-9) && admissible(half, *faces, bottom)) {
+      } else if (halves_fit && admissible(half, *faces, bottom)) {
         t = half;
+      } else if ((whole_fits || halves_fit) && narrows(whole_fits ? t + rest : half, *faces, bottom)) {
+        t = whole_fits ? t + rest : half;
+        ++result.limit_violations;
       }
     }
     Layer layer;

@@ -16,7 +16,10 @@ namespace polyaxis::slicing {
 
 // Limits for adaptive thickness; each is off when unset. A layer takes the largest thickness in
 // [min_mm, max_mm] (on the snap grid, if any) for which every limit set holds between its bottom
-// and top sections; when none does, it takes min_mm and is counted in `limit_violations`.
+// and top sections; when none does, it takes min_mm and is counted in `limit_violations`. The
+// range wins over the limits at a top that narrows: a remainder thinner than min_mm joins the last
+// layer (or the last two share it) even where that breaks a limit, counted in `limit_violations`
+// too; a top that still overhangs keeps its thin layer.
 struct AdaptiveLimits {
   std::optional<double> cusp_mm;          // staircase height t·|n·d| over the non-flat facets in the layer
   std::optional<double> voldiff;          // Ruan Eq. 9, see adaptive.cpp for the normalisation

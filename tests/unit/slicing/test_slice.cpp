@@ -276,6 +276,28 @@ TEST(Adaptive, NoTopLayerThinnerThanTheLeastWhereTheRangeAllowsIt) {
   EXPECT_GT(thin_without, 2);
 }
 
+// On a dome the cusp limit binds at the top, so a thin remainder cannot join the layer below within
+// the limits: it joins it anyway (a limit violation, counted) rather than leave a layer thinner
+// than the process can lay.
+TEST(Adaptive, NoTopLayerThinnerThanTheLeastEvenWhereALimitBinds) {
+  for (const double r : {10.0, 10.11, 10.23, 10.37, 10.52, 10.66, 10.8, 10.95}) {
+    SCOPED_TRACE(r);
+    const mesh::Mesh m = repaired(test::spherical_cap(r, 0.8 * r, 96, 48));
+    SliceOptions o;
+    o.adaptive = true;
+    o.limits.cusp_mm = 0.05;
+    o.min_mm = 0.3;
+    o.max_mm = 0.7;
+    auto s = slice(m, o);
+    ASSERT_TRUE(s.ok());
+    expect_valid_layers(s.value());
+    for (const Layer& l : s.value().layers) {
+      EXPECT_GE(l.thickness_mm(), 0.3 - 1e-9) << "layer " << l.index << " of " << s.value().layers.size();
+      EXPECT_LE(l.thickness_mm(), 0.7 + 1e-9);
+    }
+  }
+}
+
 TEST(Adaptive, CuspLimitThinsLayersOnSlopes) {
   // A cone: slope everywhere, so the cusp limit fixes t = cusp / |n·d| throughout.
   io::RawMesh cone;
@@ -348,7 +370,11 @@ TEST(Adaptive, VolDiffAreaAndOverhangLimitsHold) {
       }
       if (!ok) {
         ++failures;
-        EXPECT_LE(t, 0.2 + 1e-9) << "case " << c << ": a layer thicker than --min breaks the limit at " << l.height_mm << " index " << l.index;
+        // Only at --min, or one of the last two layers, which take a remainder thinner than --min.
+        const bool top_two = l.index + 2 >= r.value().layers.size();
+        if (!top_two) {
+          EXPECT_LE(t, 0.2 + 1e-9) << "case " << c << ": a layer thicker than --min breaks the limit at " << l.height_mm << " index " << l.index;
+        }
       }
       thick += t > 0.5 ? 1 : 0;
     }
