@@ -80,6 +80,7 @@ struct EdgeCounts {
 
 // Matches the runs of one vertex's bucket (entries of one edge), setting opposites.
 EdgeCounts match_runs(std::uint64_t* first, std::uint64_t* last, std::vector<std::uint32_t>& opposite) {
+  if (first == last) return {};  // an unused vertex (and, with no faces at all, FIRST is null)
   // Buckets hold a vertex's few edges: an insertion sort.
   for (std::uint64_t* i = first + 1; i < last; ++i) {
     const std::uint64_t e = *i;

@@ -67,6 +67,15 @@ TEST(Topology, LargeMeshInPartsMatchesAnOrderedMap) {
   EXPECT_EQ(nonmanifold, 1u);
 }
 
+// Found by fuzz_repair: vertices and no faces left an empty bucket array, and the insertion sort
+// stepped past its null start (undefined behaviour under the sanitizers).
+TEST(Topology, VerticesWithoutFaces) {
+  const Mesh m{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {}};
+  const EdgeTopology t = build_topology(m);
+  EXPECT_EQ(t.edges, 0u);
+  EXPECT_TRUE(t.opposite.empty());
+}
+
 TEST(Topology, CountsBoundaryAndNonManifoldEdges) {
   io::RawMesh m = test::cube();
   m.triangles.pop_back();
