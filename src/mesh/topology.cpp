@@ -3,17 +3,15 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 
 #include "polyaxis/core/check.h"
+#include "polyaxis/core/parallel_buckets.h"
 
 namespace polyaxis::mesh {
 namespace {
 
-// Faces per part of the counting sort below which one part does it all.
-constexpr std::size_t kMinFacesPerPart = std::size_t{1} << 16;
 // Vertices per task when runs are matched.
 constexpr std::size_t kVertexGrain = std::size_t{1} << 14;
 
@@ -26,49 +24,17 @@ std::uint32_t entry_other(std::uint64_t e) { return static_cast<std::uint32_t>(e
 bool entry_downward(std::uint64_t e) { return ((e >> 32) & 1u) != 0; }
 std::uint32_t entry_half_edge(std::uint64_t e) { return static_cast<std::uint32_t>(e); }
 
-// Counting sort of half-edges by their smaller endpoint, in parts over the faces, each part
-// counting and then placing its own half-edges: within a bucket the entries come in half-edge
-// order whatever the part count. Returns the bucket starts (nv + 1) and fills BUCKET.
+// Half-edges bucketed by their smaller endpoint (core::bucket_in_parts): within a bucket the
+// entries come in half-edge order whatever the thread count. Returns the bucket starts (nv + 1)
+// and fills BUCKET.
 std::vector<std::uint32_t> bucket_half_edges(const Mesh& mesh, std::vector<std::uint64_t>& bucket) {
-  const std::size_t nv = mesh.vertices.size(), nf = mesh.triangles.size();
-  const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
-  const std::size_t parts = std::clamp<std::size_t>(nf / kMinFacesPerPart, 1, threads);
-  auto first_face = [&](std::size_t p) { return nf * p / parts; };
-  std::vector<std::vector<std::uint32_t>> place(parts);  // per part: counts, then next slot per vertex
-  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
-    auto& count = place[p];
-    count.assign(nv, 0);
-    for (std::size_t f = first_face(p); f < first_face(p + 1); ++f) {
-      const Triangle& t = mesh.triangles[f];
-      ++count[std::min(t[0], t[1])];
-      ++count[std::min(t[1], t[2])];
-      ++count[std::min(t[2], t[0])];
+  return core::bucket_in_parts(mesh.triangles.size(), mesh.vertices.size(), bucket, [&](std::size_t f, auto&& put) {
+    const Triangle& t = mesh.triangles[f];
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      put(std::min(a, b), entry(std::max(a, b), a > b, static_cast<std::uint32_t>(3 * f + k)));
     }
   });
-  std::vector<std::uint32_t> start(nv + 1, 0);
-  std::uint32_t next = 0;
-  for (std::size_t v = 0; v < nv; ++v) {
-    start[v] = next;
-    for (auto& slot : place) {
-      const std::uint32_t n = slot[v];
-      slot[v] = next;
-      next += n;
-    }
-  }
-  start[nv] = next;
-  bucket.resize(next);
-  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
-    auto& slot = place[p];
-    for (std::size_t f = first_face(p); f < first_face(p + 1); ++f) {
-      const Triangle& t = mesh.triangles[f];
-      for (std::uint32_t k = 0; k < 3; ++k) {
-        const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-        const auto h = static_cast<std::uint32_t>(3 * f + k);
-        bucket[slot[std::min(a, b)]++] = entry(std::max(a, b), a > b, h);
-      }
-    }
-  });
-  return start;
 }
 
 struct EdgeCounts {

@@ -17,6 +17,7 @@
 #include "adaptive.h"
 #include "conformal.h"
 #include "tilted.h"
+#include "polyaxis/core/parallel_buckets.h"
 #include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/slicing/section.h"
@@ -132,37 +133,12 @@ core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& opti
     while (b >= a && plane_height(base, t, b) > fmax) --b;
     return std::pair<std::int64_t, std::int64_t>{std::max<std::int64_t>(a, 0), std::min<std::int64_t>(b, last)};
   };
-  // A counting sort of faces into the layers they span, in parts over the faces counted and placed
-  // in parallel: within a layer the faces stay in index order whatever the part count.
-  constexpr std::size_t kMinFacesPerPart = std::size_t{1} << 16;
-  const auto threads = static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
-  const std::size_t parts = std::clamp<std::size_t>(nf / kMinFacesPerPart, 1, threads);
-  auto first_face = [&](std::size_t p) { return static_cast<std::uint32_t>(nf * p / parts); };
-  std::vector<std::vector<std::uint32_t>> place(parts);  // per part: counts, then next slot per layer
-  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
-    place[p].assign(n, 0);
-    for (std::uint32_t f = first_face(p); f < first_face(p + 1); ++f) {
-      const auto [lo, hi] = layer_range(f);
-      for (std::int64_t k = lo; k <= hi; ++k) ++place[p][static_cast<std::size_t>(k)];
-    }
-  });
-  std::vector<std::uint32_t> start(n + 1, 0);
-  std::uint32_t next = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    start[k] = next;
-    for (auto& slot : place) {
-      const std::uint32_t count_k = slot[k];
-      slot[k] = next;
-      next += count_k;
-    }
-  }
-  start[n] = next;
-  std::vector<std::uint32_t> bucket(next);
-  tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t p) {
-    for (std::uint32_t f = first_face(p); f < first_face(p + 1); ++f) {
-      const auto [lo, hi] = layer_range(f);
-      for (std::int64_t k = lo; k <= hi; ++k) bucket[place[p][static_cast<std::size_t>(k)]++] = f;
-    }
+  // Faces bucketed into the layers they span, in face order within a layer whatever the thread
+  // count (core::bucket_in_parts).
+  std::vector<std::uint32_t> bucket;
+  const std::vector<std::uint32_t> start = core::bucket_in_parts(nf, n, bucket, [&](std::size_t f, auto&& put) {
+    const auto [lo, hi] = layer_range(static_cast<std::uint32_t>(f));
+    for (std::int64_t k = lo; k <= hi; ++k) put(static_cast<std::size_t>(k), static_cast<std::uint32_t>(f));
   });
   SliceResult result;
   result.layers.resize(n);
