@@ -118,7 +118,11 @@ MaterialIndex::MaterialIndex(std::vector<MaterialSample> samples, double prebuil
   if (samples_.empty()) return;
   const auto n = static_cast<std::uint32_t>(samples_.size());
   nodes_.resize(subtree_nodes(n));
-  build(0, 0, n, 0);
+  std::array<float, 3> lo = samples_.front().position, hi = lo;
+  for (const MaterialSample& s : samples_) {
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.position[k]), hi[k] = std::max(hi[k], s.position[k]);
+  }
+  build(0, 0, n, 0, lo, hi);
 }
 
 std::uint32_t MaterialIndex::subtree_nodes(std::uint32_t count) {
@@ -131,23 +135,24 @@ std::uint32_t MaterialIndex::subtree_nodes(std::uint32_t count) {
   return size;
 }
 
-void MaterialIndex::build(std::uint32_t id, std::uint32_t first, std::uint32_t count, int depth) {
+void MaterialIndex::build(std::uint32_t id, std::uint32_t first, std::uint32_t count, int depth, std::array<float, 3> lo,
+                          std::array<float, 3> hi) {
   Node node;
-  node.lo = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
-  node.hi = {-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
-  node.min_stamp = std::numeric_limits<std::uint32_t>::max();
-  for (std::uint32_t i = first; i < first + count; ++i) {
-    for (int k = 0; k < 3; ++k) node.lo[k] = std::min(node.lo[k], samples_[i].position[k]), node.hi[k] = std::max(node.hi[k], samples_[i].position[k]);
-    node.min_stamp = std::min(node.min_stamp, samples_[i].stamp);
-  }
   if (count <= kLeafSize) {
+    node.lo = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+    node.hi = {-std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
+    node.min_stamp = std::numeric_limits<std::uint32_t>::max();
+    for (std::uint32_t i = first; i < first + count; ++i) {
+      for (int k = 0; k < 3; ++k) node.lo[k] = std::min(node.lo[k], samples_[i].position[k]), node.hi[k] = std::max(node.hi[k], samples_[i].position[k]);
+      node.min_stamp = std::min(node.min_stamp, samples_[i].stamp);
+    }
     node.first = first, node.count = count;
-    nodes_[id] = node;
+    nodes_[id] = finish(node);
     return;
   }
   int axis = 0;
   for (int k = 1; k < 3; ++k) {
-    if (node.hi[k] - node.lo[k] > node.hi[axis] - node.lo[axis]) axis = k;
+    if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
   }
   const std::uint32_t half = count / 2;
   std::nth_element(samples_.begin() + first, samples_.begin() + first + half, samples_.begin() + first + count,
@@ -155,15 +160,34 @@ void MaterialIndex::build(std::uint32_t id, std::uint32_t first, std::uint32_t c
   // Preorder layout: the left subtree follows its parent, the right one follows the left.
   node.left = id + 1;
   node.right = id + 1 + subtree_nodes(half);
-  nodes_[id] = node;
-  auto left = [&] { build(node.left, first, half, depth + 1); };
-  auto right = [&] { build(node.right, first + half, count - half, depth + 1); };
+  const float cut = samples_[first + half].position[axis];  // no sample on the left above it, none on the right below
+  std::array<float, 3> left_hi = hi, right_lo = lo;
+  left_hi[axis] = cut, right_lo[axis] = cut;
+  auto left = [&] { build(node.left, first, half, depth + 1, lo, left_hi); };
+  auto right = [&] { build(node.right, first + half, count - half, depth + 1, right_lo, hi); };
   // The subtrees own disjoint samples and nodes: the top levels are built side by side.
   if (depth < kParallelDepth && count > kParallelCount) {
     tbb::parallel_invoke(left, right);
   } else {
     left(), right();
   }
+  const Node& l = nodes_[node.left];
+  const Node& r = nodes_[node.right];
+  for (int k = 0; k < 3; ++k) node.lo[k] = std::min(l.lo[k], r.lo[k]), node.hi[k] = std::max(l.hi[k], r.hi[k]);
+  node.min_stamp = std::min(l.min_stamp, r.min_stamp);
+  nodes_[id] = finish(node);
+}
+
+MaterialIndex::Node MaterialIndex::finish(Node node) {
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    node.centre[k] = 0.5f * (node.lo[k] + node.hi[k]);
+    // The ball about the rounded centre holds both corners.
+    const double e = std::max(static_cast<double>(node.hi[k]) - node.centre[k], static_cast<double>(node.centre[k]) - node.lo[k]);
+    d2 += e * e;
+  }
+  node.rho = std::nextafter(static_cast<float>(std::sqrt(d2)), std::numeric_limits<float>::infinity());
+  return node;
 }
 
 std::optional<MaterialHit> MaterialIndex::deepest(const HeadProfile& head, Vec3 tip, Vec3 axis, std::uint32_t before, double radius_mm,
@@ -178,8 +202,8 @@ std::optional<MaterialHit> MaterialIndex::deepest(const HeadProfile& head, Vec3 
     const Node& n = nodes_[stack[--top]];
     if (n.min_stamp >= before) continue;
     const Vec3 lo{n.lo[0], n.lo[1], n.lo[2]}, hi{n.hi[0], n.hi[1], n.hi[2]};
-    const Vec3 c = (lo + hi) * 0.5;
-    const double rho = 0.5 * core::norm(hi - lo);
+    const Vec3 c{n.centre[0], n.centre[1], n.centre[2]};
+    const double rho = n.rho;
     const double dc = core::norm(c - tip);
     if (dc + rho <= near_mm) continue;  // all of it beside the tip
     const double reach = radius_mm + margin_mm + turn_rad * (dc + rho);

@@ -86,12 +86,17 @@ class MaterialIndex {
  private:
   struct Node {
     std::array<float, 3> lo, hi;
+    std::array<float, 3> centre;  // of the box, and its half diagonal (rounded up): the bounding ball
+    float rho = 0.0f;
     std::uint32_t min_stamp = 0;
     std::uint32_t first = 0, count = 0;  // samples [first, first + count) of a leaf
     std::uint32_t left = 0, right = 0;   // children of an inner node (count == 0)
   };
   std::uint32_t subtree_nodes(std::uint32_t count);
-  void build(std::uint32_t id, std::uint32_t first, std::uint32_t count, int depth);
+  static Node finish(Node node);  // sets the bounding ball from the box
+  // Builds the subtree ID over samples [FIRST, FIRST + COUNT), whose box lies within [LO, HI] (the
+  // parent's box cut at its split: the split axis is chosen on it), and sets its exact box from its children's.
+  void build(std::uint32_t id, std::uint32_t first, std::uint32_t count, int depth, std::array<float, 3> lo, std::array<float, 3> hi);
 
   std::vector<MaterialSample> samples_;
   double prebuilt_ignore_mm_;

@@ -45,8 +45,13 @@ MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
 class DepositGrid {
  public:
   explicit DepositGrid(double cell_mm) : cell_(cell_mm) {}
+  DepositGrid(const DepositGrid&) = delete;
+  DepositGrid& operator=(const DepositGrid&) = delete;
   void add(Vec3 p) {
-    cells_[key(cell(p.x), cell(p.y), cell(p.z))].push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
+    // Consecutive deposit samples mostly share a cell: the last one's list is kept at hand.
+    const std::uint64_t k = key(cell(p.x), cell(p.y), cell(p.z));
+    if (last_ == nullptr || k != last_key_) last_ = &cells_[k], last_key_ = k;
+    last_->push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
   }
   // True when PRED holds for a stored point in the cells around P; the cell holding HINT (where
   // a match is most likely) is searched first.
@@ -82,7 +87,10 @@ class DepositGrid {
     return b(x) << 42 | b(y) << 21 | b(z);
   }
   double cell_;
+  // Node-based: a list's address stays valid while others are added.
   std::unordered_map<std::uint64_t, std::vector<std::array<float, 3>>> cells_;
+  std::vector<std::array<float, 3>>* last_ = nullptr;
+  std::uint64_t last_key_ = 0;
 };
 
 // A layer's deposit samples, held until the layer ends: its plane is fitted to all of them.

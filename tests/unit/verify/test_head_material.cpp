@@ -74,3 +74,66 @@ TEST(BelowTheTip, AHeadBoxBelowTheTipTurnsItOff) {
 
 }  // namespace
 }  // namespace polyaxis::verify::detail
+
+namespace polyaxis::verify::detail {
+namespace {
+
+// The hierarchy finds what a scan of every sample finds: for random clouds (bead-like rows and
+// loose heaps, tens of thousands of samples so the parallel build runs), heads with and without
+// head boxes, random tips, axes, stamps, margins and turns, the deepest depth is the scan's, and
+// with ANY it finds one exactly when the scan does.
+TEST(MaterialIndex, FindsWhatAScanOfEverySampleFinds) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
+  machine::MachineConfig m = test::example_machine("ded5_ac");
+  const process::ProcessConfig p = test::default_process();
+  machine::BuildModel model = machine::make_build_model(m, p, -40, -40, 40, 40);
+  std::vector<MaterialSample> material;
+  for (int k = 0; k < 40; ++k) {
+    for (int i = 0; i < 1500; ++i) {
+      const double t = 0.3 * i;
+      const double x = -30.0 + std::fmod(t, 60.0), y = -30.0 + 1.2 * std::floor(t / 60.0) + 0.3 * u(rng), z = 0.4 * k + 0.05 * u(rng);
+      material.push_back({{static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)}, static_cast<std::uint32_t>(material.size()), k, 0});
+    }
+  }
+  for (int i = 0; i < 5000; ++i) {
+    material.push_back({{static_cast<float>(20.0 * u(rng)), static_cast<float>(20.0 * u(rng)), static_cast<float>(16.0 + 10.0 * unit(rng))},
+                        static_cast<std::uint32_t>(material.size()), 50, 1});
+  }
+  const double radius = std::hypot(0.45, 0.225), ignore = 2.7;
+  for (const bool box : {false, true}) {
+    if (box) model.head_boxes.push_back(machine::HeadBox{{-6, -3, 4}, {9, 3, 12}});
+    const HeadProfile head(model);
+    const MaterialIndex index(material);
+    std::size_t hits = 0;
+    for (int q = 0; q < 400; ++q) {
+      const Vec3 tip{30.0 * u(rng), 30.0 * u(rng), 18.0 * unit(rng)};
+      const Vec3 axis = core::normalized(Vec3{0.8 * u(rng), 0.8 * u(rng), 1.0});
+      const auto before = static_cast<std::uint32_t>(unit(rng) * static_cast<double>(material.size() + 1));
+      const double margin = 0.8 * unit(rng), turn = 0.02 * unit(rng);
+      std::optional<double> scan;
+      for (const MaterialSample& s : material) {
+        if (s.stamp >= before) continue;
+        const Vec3 pos{s.position[0], s.position[1], s.position[2]};
+        const double d = core::norm(pos - tip);
+        if (d <= ignore) continue;
+        const double sd = head.distance(pos - tip, axis);
+        if (sd > radius + margin + turn * d) continue;
+        scan = std::max(scan.value_or(-INFINITY), radius - sd);
+      }
+      const auto found = index.deepest(head, tip, axis, before, radius, ignore, margin, turn);
+      ASSERT_EQ(found.has_value(), scan.has_value()) << "query " << q << (box ? " with a head box" : "");
+      if (scan) {
+        EXPECT_DOUBLE_EQ(found->depth_mm, *scan) << "query " << q;
+      }
+      EXPECT_EQ(index.deepest(head, tip, axis, before, radius, ignore, margin, turn, true).has_value(), scan.has_value());
+      hits += scan ? 1 : 0;
+    }
+    // Not vacuous: some heads reach the material, some do not.
+    EXPECT_GT(hits, 20u);
+    EXPECT_LT(hits, 380u);
+  }
+}
+
+}  // namespace
+}  // namespace polyaxis::verify::detail
