@@ -109,8 +109,14 @@ core::Status write_plan_set(const PlanCommandOptions& o, const planner::PlanPart
     if (s) progress.update(++written);
     return s;
   };
-  const report::PlanView view =
+  report::PlanView view =
       report::make_plan_view(plan, machine, process, job.axis ? &*job.axis : nullptr, o.part.path, report_text, &job.check);
+  if (o.html) {
+    // Machine playback in report.html: the program as its controller reads it.
+    auto frames = verify::playback_frames(machine, process, job.gcode);
+    if (!frames) return frames.error();
+    view.playback = report::ViewPlayback{machine, std::move(frames.value())};
+  }
   if (auto s = add("plan.json", report::plan_view_json(view), io::Durability::kAtomic); !s) return s;
   if (auto s = add("report.json", report_text, io::Durability::kAtomic); !s) return s;
   if (auto s = add("timings.json", report::timings_json(plan, meta), io::Durability::kAtomic); !s) return s;

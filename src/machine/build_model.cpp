@@ -33,7 +33,7 @@ BuildModel make_build_model(const MachineConfig& machine, const process::Process
   m.nozzle = machine.nozzle;
   m.head_boxes = machine.head_boxes;
   m.table_radius_mm = machine.table.radius_mm;
-  m.table_centre_mm = has_rotary_axes(machine.kind) ? Vec3{machine.pivot.x_rot_point_mm, machine.pivot.y_rot_point_mm, 0.0}
+  m.table_centre_mm = turns_table(machine.kind) ? Vec3{machine.pivot.x_rot_point_mm, machine.pivot.y_rot_point_mm, 0.0}
                                                     : work_centre_mm(machine);
   const auto& s = process.substrate;
   const double cx = (x0 + x1) * 0.5, cy = (y0 + y1) * 0.5;

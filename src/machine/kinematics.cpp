@@ -28,7 +28,7 @@ Vec3 rot_z(Vec3 v, double a) {
   return {c * v.x - s * v.y, s * v.x + c * v.y, v.z};
 }
 
-bool is_a(const MachineConfig& m) { return m.kind == Kinematics::kTableTiltA_RotaryC; }
+bool is_a(const MachineConfig& m) { return tilt_axis_letter(m.kind) == 'A'; }
 Vec3 rot_tilt(const MachineConfig& m, Vec3 v, double a) { return is_a(m) ? rot_x(v, a) : rot_y(v, a); }
 
 // s in the header's formula: LinuxCNC 2.9 turns its tables opposite to the conventional sense.
@@ -47,6 +47,16 @@ Vec3 tilt_offset(const MachineConfig& m) {
 Vec3 joints_for(const MachineConfig& m, Vec3 p, double tilt_rad_s, double c_rad_s) {
   const Vec3 rp = rot_point(m), d = tilt_offset(m);
   return rp + d + rot_tilt(m, rot_z(p - rp, -c_rad_s) - d, -tilt_rad_s);
+}
+
+// Head-head machines (kinematics.h): the tool axis at tilt T and turn C (radians), and the joints
+// that put the tip at TIP with it: joints = tip − L·(ẑ − axis).
+Vec3 head_axis(const MachineConfig& m, double t, double c) {
+  const Vec3 tilted = is_a(m) ? Vec3{0.0, -std::sin(t), std::cos(t)} : Vec3{-std::sin(t), 0.0, std::cos(t)};
+  return rot_z(tilted, c);
+}
+Vec3 head_joints(const MachineConfig& m, Vec3 tip, double t, double c) {
+  return tip - (Vec3{0.0, 0.0, 1.0} - head_axis(m, t, c)) * m.pivot.pivot_length_mm;
 }
 
 std::string fmt_num(double v) { return fmt::format("{:.4f}", v); }
@@ -87,6 +97,11 @@ std::string format_pose(const MachineConfig& m, const MachinePose& pose) {
 MachineToolPose forward(const MachineConfig& m, const MachinePose& pose) {
   const Vec3 j{pose.x_mm, pose.y_mm, pose.z_mm};
   if (!has_rotary_axes(m.kind)) return {j, {0.0, 0.0, 1.0}};
+  if (tilts_head(m.kind)) {
+    const double t = pose.a_or_b_deg * kRadPerDeg, c = pose.c_deg * kRadPerDeg;
+    const Vec3 axis = head_axis(m, t, c);
+    return {j + (Vec3{0.0, 0.0, 1.0} - axis) * m.pivot.pivot_length_mm, axis};
+  }
   const double s = sense(m);
   const double t = s * pose.a_or_b_deg * kRadPerDeg, c = s * pose.c_deg * kRadPerDeg;
   const Vec3 rp = rot_point(m), d = tilt_offset(m);
@@ -119,12 +134,14 @@ core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in
     return pose;
   }
 
-  const double s = sense(m);
+  const bool head = tilts_head(m.kind);
+  const double s = head ? 1.0 : sense(m);
   const double prev_t = previous ? previous->a_or_b_deg : 0.0;
   const double prev_c = previous ? previous->c_deg : 0.0;
 
   // Rotary solutions in the math convention (tilt τ, turn φ): the axis is Rz(φ)·Rt(τ)·ẑ, which is
-  // (sinφ·sinτ, −cosφ·sinτ, cosτ) about X and (cosφ·sinτ, sinφ·sinτ, cosτ) about Y.
+  // (sinφ·sinτ, −cosφ·sinτ, cosτ) about X and (cosφ·sinτ, sinφ·sinτ, cosτ) about Y on a table, and
+  // the head's axis (kinematics.h) at T = τ, C = φ on a head (its B tilts the other way: −cosφ·sinτ, −sinφ·sinτ).
   std::array<std::pair<double, double>, 2> branches{};  // (τ, φ) in radians
   const bool singular = tilt_rad < kSingularTiltRad || tilt_rad > std::numbers::pi - kSingularTiltRad;
   if (singular) {
@@ -133,11 +150,11 @@ core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in
     // candidates, so the tilt does not swing a full turn between +180° and −180°.
     const double phi = s * prev_c * kRadPerDeg;
     const Vec3 v = rot_z(u, -phi);
-    const double tau = is_a(m) ? std::atan2(-v.y, v.z) : std::atan2(v.x, v.z);
+    const double tau = is_a(m) ? std::atan2(-v.y, v.z) : std::atan2(head ? -v.x : v.x, v.z);
     branches[0] = {tau, phi};
     branches[1] = {tau - std::copysign(2.0 * std::numbers::pi, tau), phi};
   } else {
-    const double phi = is_a(m) ? std::atan2(u.x, -u.y) : std::atan2(u.y, u.x);
+    const double phi = is_a(m) ? std::atan2(u.x, -u.y) : head ? std::atan2(-u.y, -u.x) : std::atan2(u.y, u.x);
     branches[0] = {tilt_rad, phi};
     branches[1] = {-tilt_rad, phi + std::numbers::pi};
   }
@@ -167,7 +184,7 @@ core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in
         c_deg = inside;
       }
     }
-    const Vec3 j = joints_for(m, tip, s * t_deg * kRadPerDeg, s * c_deg * kRadPerDeg);
+    const Vec3 j = head ? head_joints(m, tip, t_deg * kRadPerDeg, c_deg * kRadPerDeg) : joints_for(m, tip, s * t_deg * kRadPerDeg, s * c_deg * kRadPerDeg);
     Candidate cand{{j.x, j.y, j.z, t_deg, c_deg}, std::abs(t_deg - prev_t) + std::abs(c_deg - prev_c), {}};
     cand.violation = limit_violation(m, cand.pose);
     // Feasible beats infeasible, then least rotary motion; ties keep the first (positive τ) branch.

@@ -13,7 +13,7 @@ using nlohmann::json;
 
 namespace {
 
-constexpr std::string_view kSupportedKinematics = "xyz, xyzac-trt, xyzbc-trt";
+constexpr std::string_view kSupportedKinematics = "xyz, xyzac-trt, xyzbc-trt, xyzac-head, xyzbc-head";
 
 // Same text as examples/machines/ded5_ac.json (a test keeps them equal).
 constexpr std::string_view kDefaultMachine = R"({
@@ -86,14 +86,18 @@ std::string_view kinematics_name(Kinematics kind) {
     case Kinematics::k3Axis: return "xyz";
     case Kinematics::kTableTiltA_RotaryC: return "xyzac-trt";
     case Kinematics::kTableTiltB_RotaryC: return "xyzbc-trt";
+    case Kinematics::kHeadTiltA_RotaryC: return "xyzac-head";
+    case Kinematics::kHeadTiltB_RotaryC: return "xyzbc-head";
   }
   return "?";
 }
 
 char tilt_axis_letter(Kinematics kind) {
   switch (kind) {
-    case Kinematics::kTableTiltA_RotaryC: return 'A';
-    case Kinematics::kTableTiltB_RotaryC: return 'B';
+    case Kinematics::kTableTiltA_RotaryC:
+    case Kinematics::kHeadTiltA_RotaryC: return 'A';
+    case Kinematics::kTableTiltB_RotaryC:
+    case Kinematics::kHeadTiltB_RotaryC: return 'B';
     case Kinematics::k3Axis: break;
   }
   return '\0';
@@ -102,7 +106,7 @@ char tilt_axis_letter(Kinematics kind) {
 std::string_view default_machine_json() { return kDefaultMachine; }
 
 core::Vec3 work_centre_mm(const MachineConfig& machine) {
-  if (has_rotary_axes(machine.kind)) return {};
+  if (turns_table(machine.kind)) return {};
   return {0.5 * (machine.x_mm.min + machine.x_mm.max), 0.5 * (machine.y_mm.min + machine.y_mm.max), 0.0};
 }
 
@@ -136,12 +140,16 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
     m.kind = Kinematics::kTableTiltA_RotaryC;
   } else if (kin == "xyzbc-trt") {
     m.kind = Kinematics::kTableTiltB_RotaryC;
+  } else if (kin == "xyzac-head") {
+    m.kind = Kinematics::kHeadTiltA_RotaryC;
+  } else if (kin == "xyzbc-head") {
+    m.kind = Kinematics::kHeadTiltB_RotaryC;
   } else {
     r.fail(fmt::format("unknown kinematics '{}' (supported: {})", kin, kSupportedKinematics));
     return r.error();
   }
   const bool five = has_rotary_axes(m.kind);
-  const std::string tilt = m.kind == Kinematics::kTableTiltB_RotaryC ? "b" : "a";
+  const std::string tilt = tilt_axis_letter(m.kind) == 'B' ? "b" : "a";
 
   // Limits: X Y Z always; the tilt axis and C exactly when the kinematics has them (P4).
   if (!r.has(root, "limits")) {
@@ -185,8 +193,22 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
   }
   if (r.failed()) return r.error();
 
-  // Pivot: optional, zero by default; only the offsets the kinematics uses may be non-zero.
-  if (r.has(root, "pivot")) {
+  // Pivot: optional, zero by default; only the offsets the kinematics uses may be non-zero. A
+  // head-head machine has one: the pivot length, which it needs.
+  if (tilts_head(m.kind)) {
+    if (!r.has(root, "pivot")) {
+      r.fail(fmt::format("missing key 'pivot.pivot_length_mm' for kinematics {}", kin));
+      return r.error();
+    }
+    const json& p = root.at("pivot");
+    if (!r.check_object(p, "pivot", {"pivot_length_mm"})) return r.error();
+    m.pivot.pivot_length_mm = r.number(p, "pivot", "pivot_length_mm", std::nullopt);
+    if (!r.failed() && !(m.pivot.pivot_length_mm > 0.0)) {
+      r.fail(fmt::format("'pivot.pivot_length_mm' ({}) must be > 0: the distance from the nozzle tip to where the head's axes meet",
+                         m.pivot.pivot_length_mm));
+    }
+    if (r.failed()) return r.error();
+  } else if (r.has(root, "pivot")) {
     const json& p = root.at("pivot");
     if (!r.check_object(p, "pivot", {"x_rot_point_mm", "y_rot_point_mm", "z_rot_point_mm", "x_offset_mm", "y_offset_mm",
                                       "z_offset_mm", "tool_offset_mm", "conventional_directions"})) {

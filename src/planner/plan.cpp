@@ -69,7 +69,7 @@ core::Status place_checks(const std::vector<PlanRegion>& regions, const machine:
     }
     machine::add_prebuilt(plan.build_model.prebuilt, r.mesh.vertices, r.mesh.triangles, machine::kPrebuiltSpacingBeads * process.bead_width_mm);
   }
-  if (auto s = detail::check_region_reach(deposited, machine, detail::reach_rad(machine)); !s) return s;
+  if (auto s = detail::check_region_reach(deposited, machine, process); !s) return s;
   return detail::check_region_travel(deposited, machine);
 }
 

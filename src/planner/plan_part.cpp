@@ -225,7 +225,7 @@ core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const 
   if (!per_piece) {
     regions.push_back(on_substrate_region(1, std::move(rest.value()), up));
   } else {
-    const double reach = detail::reach_rad(machine);
+    const double reach = detail::direction_reach_rad(machine, process);
     bool turned = false;
     for (mesh::Mesh& piece : connected_pieces(rest.value())) {
       Vec3 d = base_normal(piece, *o.substrate).value_or(up);
@@ -287,7 +287,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   dopt.root_base = root_base;
   dopt.self_supporting_deg = process.self_supporting_deg;
   dopt.work_budget_facet_visits = o.decompose_budget_facet_visits;
-  dopt.reach_deg = detail::reach_rad(machine) * 180.0 / std::numbers::pi;
+  dopt.reach_deg = detail::direction_reach_rad(machine, process) * 180.0 / std::numbers::pi;
   auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
   if (!tree) return tree.error();
   if (o.strategy == Strategy::kAuto && tree.value().regions.size() < 2) {
@@ -305,7 +305,12 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   if (dopt.reach_deg < 180.0) {
     double left = 0.0;
     for (const analysis::Region& r : tree.value().regions) left += r.support_free ? 0.0 : r.unsupported_area_mm2;
-    if (left > 0.0) {
+    if (left > 0.0 && machine::tilts_head(machine.kind) && dopt.reach_deg < detail::reach_rad(machine) * 180.0 / std::numbers::pi) {
+      c.warnings.push_back(fmt::format("the decomposition kept every build direction within {:.0f} deg of vertical (the head-head machine "
+                                       "'{}' leaves the part fixed; process off_vertical_max_deg) and leaves {:.1f} mm2 of overhang: a "
+                                       "process that deposits further off vertical may remove it",
+                                       dopt.reach_deg, machine.name, left));
+    } else if (left > 0.0) {
       const char tilt = machine::tilt_axis_letter(machine.kind);
       c.warnings.push_back(fmt::format("the decomposition kept every build direction within the tilt reach of {:.0f} deg "
                                        "(machine '{}', limits.{}) and leaves {:.1f} mm2 of overhang: a wider tilt range may remove it",

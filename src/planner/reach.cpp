@@ -39,12 +39,29 @@ double reach_rad(const machine::MachineConfig& m) {
   return deg * kPi / 180.0;
 }
 
-core::Status check_region_reach(const std::vector<PlanRegion>& placed, const machine::MachineConfig& m, double reach) {
+double direction_reach_rad(const machine::MachineConfig& m, const process::ProcessConfig& process) {
+  const double tilt = reach_rad(m);
+  if (!machine::tilts_head(m.kind)) return tilt;
+  return std::min(tilt, process.off_vertical_max_deg * kPi / 180.0);
+}
+
+core::Status check_region_reach(const std::vector<PlanRegion>& placed, const machine::MachineConfig& m, const process::ProcessConfig& process) {
   const Vec3 up{0, 0, 1};
+  const double reach = direction_reach_rad(m, process);
+  const bool gravity = machine::tilts_head(m.kind) && process.off_vertical_max_deg * kPi / 180.0 < reach_rad(m);
   for (const PlanRegion& r : placed) {
     const double need = angle(core::normalized(r.direction), up);
     if (need <= reach + 1e-9) continue;
     const char letter = machine::tilt_axis_letter(m.kind);
+    if (gravity) {
+      return core::make_error(
+          core::ErrorCode::kMachineLimit,
+          fmt::format("region {}: its build direction ({:.3f}, {:.3f}, {:.3f}) is {:.1f} deg from vertical, but on the head-head machine "
+                      "'{}' the part stays fixed and the process deposits at most {:.1f} deg off vertical (process "
+                      "off_vertical_max_deg): a process that deposits further off vertical, a table-table machine or "
+                      "--strategy single would make it buildable",
+                      r.id, r.direction.x, r.direction.y, r.direction.z, need * 180.0 / kPi, m.name, process.off_vertical_max_deg));
+    }
     return core::make_error(
         core::ErrorCode::kMachineLimit,
         fmt::format("region {}: its build direction ({:.3f}, {:.3f}, {:.3f}) on the table needs a tilt of {:.1f} deg, but {} reaches "

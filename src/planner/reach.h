@@ -18,9 +18,17 @@ namespace polyaxis::planner::detail {
 // azimuth), else the smaller end; 0 on a 3-axis machine.
 double reach_rad(const machine::MachineConfig& machine);
 
-// kMachineLimit naming the first placed region whose build direction is beyond REACH_RAD of +Z,
-// with the tilt it needs, the limit and what would make it reachable.
-core::Status check_region_reach(const std::vector<PlanRegion>& placed, const machine::MachineConfig& machine, double reach_rad);
+// The largest angle (radians) between a region's build direction and the table's +Z. A table-table
+// machine turns the direction up: its tilt reach. A head-head machine leaves the part fixed, so
+// gravity does not turn with the region: the process's off_vertical_max_deg, within the tilt reach.
+// A 3-axis machine: 0.
+double direction_reach_rad(const machine::MachineConfig& machine, const process::ProcessConfig& process);
+
+// kMachineLimit naming the first placed region whose build direction is beyond
+// direction_reach_rad of +Z, with the tilt it needs, the limit (the tilt axis's, or on a head-head
+// machine the process's off_vertical_max_deg) and what would make it reachable.
+core::Status check_region_reach(const std::vector<PlanRegion>& placed, const machine::MachineConfig& machine,
+                                const process::ProcessConfig& process);
 
 // Turns AXIS (unit) towards the table's +Z, along the great circle, as little as needed for the
 // head at TIP, and at TIP + LIFT_MM along the axis (where the tool retracts to), to keep

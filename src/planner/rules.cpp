@@ -11,7 +11,7 @@
 namespace polyaxis::planner {
 
 std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process::ProcessConfig& process, const Plan& plan) {
-  const double reach_deg = detail::reach_rad(machine) * 180.0 / std::numbers::pi;
+  const double reach_deg = detail::direction_reach_rad(machine, process) * 180.0 / std::numbers::pi;
   const double alpha = process.self_supporting_deg;
   return {
       {kRegionWhole, "the part is built as one region along one direction (--strategy single, or the better plan of --strategy auto)", {}},

@@ -30,6 +30,7 @@ constexpr std::string_view kDefaultProcess = R"({
   "adaptive_layers": true,
   "cusp_mm": 0.3,
   "voldiff": 0.05,
+  "off_vertical_max_deg": 0,
   "substrate": {"thickness_mm": 10, "margin_mm": 10, "size_x_mm": 0, "size_y_mm": 0},
   "rules": {"interleave": true, "c_space_margin_mm": 0}
 }
@@ -86,7 +87,7 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   core::detail::ConfigReader r(source);
   if (!r.check_object(root, "", {"name", "bead_width_mm", "layer_mm", "layer_min_mm", "layer_max_mm",
                                  "self_supporting_deg", "deposit_feed_mm_s", "travel_feed_mm_s", "process_on",
-                                 "process_off", "dwell_on_s", "max_step_bead_share", "adaptive_layers", "cusp_mm", "voldiff", "substrate", "rules"})) {
+                                 "process_off", "dwell_on_s", "max_step_bead_share", "adaptive_layers", "cusp_mm", "voldiff", "off_vertical_max_deg", "substrate", "rules"})) {
     return r.error();
   }
   ProcessConfig p;
@@ -105,6 +106,7 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   p.adaptive_layers = r.boolean(root, "", "adaptive_layers", p.adaptive_layers);
   p.cusp_mm = r.number(root, "", "cusp_mm", p.cusp_mm);
   p.voldiff = r.number(root, "", "voldiff", p.voldiff);
+  p.off_vertical_max_deg = r.number(root, "", "off_vertical_max_deg", p.off_vertical_max_deg);
   if (r.has(root, "substrate")) {
     const json& s = root.at("substrate");
     if (!r.check_object(s, "substrate", {"thickness_mm", "margin_mm", "size_x_mm", "size_y_mm"})) return r.error();
@@ -123,6 +125,11 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   if (p.rules.c_space_margin_mm < 0.0) r.fail("'rules.c_space_margin_mm' must be >= 0");
   if (!(p.max_step_bead_share > 0.0 && p.max_step_bead_share <= 1.0)) {
     r.fail(fmt::format("'max_step_bead_share' ({}) must be in (0, 1]: a bead must rest on the one below", p.max_step_bead_share));
+  }
+  if (!(p.off_vertical_max_deg >= 0.0 && p.off_vertical_max_deg < 90.0)) {
+    r.fail(fmt::format("'off_vertical_max_deg' ({}) must be in [0, 90): the largest angle from vertical a region may be built along "
+                       "where the part stays fixed",
+                       p.off_vertical_max_deg));
   }
   if (!(p.cusp_mm > 0.0)) r.fail(fmt::format("'cusp_mm' ({}) must be > 0", p.cusp_mm));
   if (!(p.voldiff > 0.0 && p.voldiff <= 2.0)) r.fail(fmt::format("'voldiff' ({}) must be in (0, 2]: a share of the larger section", p.voldiff));

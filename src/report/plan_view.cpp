@@ -108,8 +108,10 @@ PlanView make_plan_view(const planner::Plan& plan, const machine::MachineConfig&
   PlanView view;
   if (check != nullptr) {
     for (const verify::Collision& c : check->collision_list) {
-      view.collisions.push_back({c.tip, fmt::format("layer {} region {}, line {}: the head strikes the {} ({:.2f} mm)", c.layer, c.region,
-                                                    c.line, c.body, c.depth_mm)});
+      view.collisions.push_back({c.tip,
+                                 fmt::format("layer {} region {}, line {}: the head strikes the {} ({:.2f} mm)", c.layer, c.region, c.line,
+                                             c.body, c.depth_mm),
+                                 c.line});
     }
   }
   view.part = std::move(part);
@@ -245,7 +247,7 @@ std::string plan_view_json(const PlanView& view) {
   for (std::size_t i = 0; i < view.collisions.size(); ++i) {
     out += i ? ",\n{\"position\":" : "\n{\"position\":";
     put_vec(out, view.collisions[i].position);
-    out += ",\"what\":" + nlohmann::json(view.collisions[i].what).dump() + "}";
+    out += ",\"what\":" + nlohmann::json(view.collisions[i].what).dump() + fmt::format(",\"line\":{}}}", view.collisions[i].line);
   }
   out += "],\n\"rules\":[";
   for (std::size_t i = 0; i < view.rules.size(); ++i) {

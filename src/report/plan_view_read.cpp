@@ -258,7 +258,10 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       if (p.layer >= view.layers.size()) throw std::runtime_error("a program row's layer is out of range");
     }
     if (doc.contains("collisions")) {  // plans written before collisions were checked have none
-      for (const Json& c : doc.at("collisions")) view.collisions.push_back({get_vec(c.at("position")), c.at("what").get<std::string>()});
+      for (const Json& c : doc.at("collisions")) {
+        view.collisions.push_back({get_vec(c.at("position")), c.at("what").get<std::string>(),
+                                   c.contains("line") ? c.at("line").get<std::uint64_t>() : 0});
+      }
     }
     for (const ViewLayer& l : view.layers) {
       for (const std::uint32_t i : l.order.interferes_with) {

@@ -74,6 +74,58 @@ std::vector<std::size_t> kept_points(const std::vector<post::ProgramPoint>& prog
   return kept;
 }
 
+// The playback's frames kept for the viewer: all when there are at most MAX_FRAMES, else every
+// k-th and every frame where the process, the layer or the motion mode changes, and the last.
+std::vector<std::size_t> kept_frames(const std::vector<verify::PlaybackFrame>& frames, std::size_t max_frames) {
+  std::vector<std::size_t> kept;
+  const std::size_t n = frames.size();
+  const std::size_t stride = max_frames == 0 || n <= max_frames ? 1 : (n + max_frames - 1) / max_frames;
+  std::size_t since = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool change = i == 0 || i + 1 == n || frames[i - 1].process_on != frames[i].process_on || frames[i - 1].layer != frames[i].layer ||
+                        frames[i - 1].rapid != frames[i].rapid;
+    if (stride == 1 || change || ++since >= stride) kept.push_back(i), since = 0;
+  }
+  return kept;
+}
+
+// "playback": the kinematics to pose the machine (machine/kinematics.h: trt-kins' rotation point,
+// tilt offset and sense; the head's pivot length), the head, table and plate to draw, and the
+// frames (joints X Y Z tilt C, the time each ends, its line, process and rapid flags, its layer).
+std::string playback_json(const ViewPlayback& p, const machine::BuildModel& model, std::size_t max_frames) {
+  const machine::MachineConfig& m = p.machine;
+  const std::vector<std::size_t> kept = kept_frames(p.frames, max_frames);
+  std::vector<float> joints, times;
+  std::vector<std::uint32_t> lines;
+  std::vector<std::int32_t> layers;
+  std::vector<std::uint8_t> flags;
+  for (const std::size_t i : kept) {
+    const verify::PlaybackFrame& f = p.frames[i];
+    for (const double v : {f.pose.x_mm, f.pose.y_mm, f.pose.z_mm, f.pose.a_or_b_deg, f.pose.c_deg}) joints.push_back(static_cast<float>(v));
+    times.push_back(static_cast<float>(f.time_s));
+    lines.push_back(static_cast<std::uint32_t>(std::min<std::uint64_t>(f.line, 0xffffffffu)));
+    layers.push_back(static_cast<std::int32_t>(f.layer));
+    flags.push_back(static_cast<std::uint8_t>((f.process_on ? 1 : 0) | (f.rapid ? 2 : 0)));
+  }
+  const machine::TrtPivot& pv = m.pivot;
+  const bool a = machine::tilt_axis_letter(m.kind) == 'A';
+  const double dz = pv.z_offset_mm + pv.tool_offset_mm;
+  const machine::SubstratePlate& s = model.substrate;
+  const machine::NozzleModel& n = model.nozzle;
+  return fmt::format(
+      "{{\"kinematics\":{},\"sense\":{},\"rot_point\":[{:.6g},{:.6g},{:.6g}],\"offset\":[{:.6g},{:.6g},{:.6g}],\"pivot_length_mm\":{:.6g},"
+      "\"nozzle\":{{\"tip_half_angle_deg\":{:.6g},\"cone_height_mm\":{:.6g},\"cylinder_radius_mm\":{:.6g},\"cylinder_height_mm\":{:.6g}}},"
+      "\"table\":{{\"radius_mm\":{:.6g},\"centre\":[{:.6g},{:.6g}],\"top_z_mm\":{:.6g}}},"
+      "\"plate\":{{\"x_mm\":[{:.6g},{:.6g}],\"y_mm\":[{:.6g},{:.6g}],\"top_z_mm\":{:.6g},\"thickness_mm\":{:.6g}}},"
+      "\"total_frames\":{},\"duration_s\":{:.6g},\"joints\":\"{}\",\"time\":\"{}\",\"line\":\"{}\",\"layer\":\"{}\",\"flags\":\"{}\"}}",
+      nlohmann::json(std::string(machine::kinematics_name(m.kind))).dump(), pv.conventional_directions ? 1 : -1, pv.x_rot_point_mm,
+      pv.y_rot_point_mm, pv.z_rot_point_mm, a ? 0.0 : pv.x_offset_mm, a ? pv.y_offset_mm : 0.0, dz, pv.pivot_length_mm,
+      n.tip_half_angle_deg, n.cone_height_mm, n.cylinder_radius_mm, n.cylinder_height_mm, model.table_radius_mm, model.table_centre_mm.x,
+      model.table_centre_mm.y, model.table_top_z_mm(), s.x_min_mm, s.x_max_mm, s.y_min_mm, s.y_max_mm, s.top_z_mm, s.thickness_mm,
+      p.frames.size(), p.frames.empty() ? 0.0 : p.frames.back().time_s, base64(joints), base64(times), base64(lines), base64(layers),
+      base64(flags));
+}
+
 }  // namespace
 
 std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
@@ -150,10 +202,12 @@ std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
                  base64(points), base64(axes), base64(flags), base64(regions), view.program.size(), kept.size());
   for (std::size_t i = 0; i < view.collisions.size(); ++i) {
     const Vec3& p = view.collisions[i].position;
-    fmt::format_to(std::back_inserter(out), "{}{{\"position\":[{:.4f},{:.4f},{:.4f}],\"what\":{}}}", i ? "," : "", p.x, p.y, p.z,
-                   nlohmann::json(view.collisions[i].what).dump());
+    fmt::format_to(std::back_inserter(out), "{}{{\"position\":[{:.4f},{:.4f},{:.4f}],\"what\":{},\"line\":{}}}", i ? "," : "", p.x, p.y,
+                   p.z, nlohmann::json(view.collisions[i].what).dump(), view.collisions[i].line);
   }
-  out += "]}";
+  out += "]";
+  if (view.playback) out += ",\n\"playback\":" + playback_json(*view.playback, view.build_model, options.max_points);
+  out += "}";
   return out;
 }
 

@@ -82,9 +82,14 @@ class PlanMatcher {
     if (on_path) {
       cursor_ = best_j;
       // A sample where consecutive segments meet (a turn in place, the end of a path) lies on each
-      // of them: its axis is measured against whichever of them it follows.
+      // of them: its axis is measured against whichever of them it follows. A turn in place a
+      // little farther than the tolerance (the sample already on its way along the next segment)
+      // does not end the search: the next segment is what the sample follows.
       for (std::size_t j = best_j + 1; j < end && j < best_j + kSharedSegments; ++j) {
-        if (machine::distance_to_segment(tip, plan_[j].tip_part_mm, plan_[j + 1].tip_part_mm) > tolerance_mm_) break;
+        if (machine::distance_to_segment(tip, plan_[j].tip_part_mm, plan_[j + 1].tip_part_mm) > tolerance_mm_) {
+          if (plan_[j].tip_part_mm == plan_[j + 1].tip_part_mm) continue;
+          break;
+        }
         ang = std::min(ang, arc_angle(j));
       }
     }

@@ -83,6 +83,14 @@ TEST_P(PlanOnShippedMachines, EveryMachineFilePlansThePart) {
     const auto report = read_json(dir / "report.json");
     EXPECT_EQ(report["collisions"].get<int>(), 0) << file << report["collision_list"];
     EXPECT_TRUE(report["build_check"]["mid_air_regions"].empty()) << file;
+    // Our own reader, through this machine's kinematics: the head above the plate, no region in
+    // mid-air, every bead of a support-free plan grounded, no stalls.
+    check_readback(dir.path(), name, false, nullptr, file);
+    // Kapil's tilted torch on the impeller's blade tips works as well from a tilting head over the
+    // fixed part as from a tilting table.
+    if (name == "impeller" && machine::has_rotary_axes(m.value().kind)) {
+      EXPECT_TRUE(report["support_free"].get<bool>()) << file << report["unsupported_area_mm2"];
+    }
     const auto ngc = dir / (name + ".ngc");
     const auto sim = run_cli("simulate '" + ngc.string() + "' --machine '" + file.string() + "' --plan '" + (dir / "plan.json").string() +
                              "' --json");

@@ -160,8 +160,9 @@ inline double depth_under(const io::RawMesh& mesh, core::Vec3 p, core::Vec3 n) {
 // PREBUILT: a part already on the table, in the table frame (placed(): a --substrate mesh placed as
 // plan.json says): the deposit may rest on it and the head must keep out of it.
 inline ReadBack check_readback(const std::filesystem::path& dir, const std::string& name, bool allow_collisions = false,
-                               const io::RawMesh* prebuilt = nullptr) {
-  auto machine = machine::parse_machine(machine::default_machine_json(), "default");
+                               const io::RawMesh* prebuilt = nullptr, const std::filesystem::path& machine_file = {}) {
+  auto machine = machine_file.empty() ? machine::parse_machine(machine::default_machine_json(), "default")
+                                      : machine::parse_machine(slurp(machine_file), machine_file.string());
   auto process = process::parse_process(process::default_process_json(), "default");
   EXPECT_TRUE(machine.ok() && process.ok());
   const auto report = read_json(dir / "report.json");

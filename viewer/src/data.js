@@ -170,6 +170,45 @@ function decodeAxis(a) {
   return { nodes: pos, links: links.map((l) => [l[0] | 0, l[1] | 0, l[2] ? 1 : 0]) };
 }
 
+// The machine playback (absent from pages written from plan.json alone): kinematics, bodies and
+// frames, one per G-code block as the controller reads it.
+function decodePlayback(p) {
+  if (!p) return null;
+  const joints = typed(p.joints, Float32Array, 'playback.joints');
+  if (joints.length % 5 !== 0) throw new Error(`playback.joints: ${joints.length} floats is not a multiple of 5`);
+  const n = joints.length / 5;
+  const time = typed(p.time, Float32Array, 'playback.time');
+  const line = typed(p.line, Uint32Array, 'playback.line');
+  const layer = typed(p.layer, Int32Array, 'playback.layer');
+  const flags = bytesFromBase64(p.flags, 'playback.flags');
+  for (const [what, a] of [['time', time], ['line', line], ['layer', layer], ['flags', flags]]) {
+    if (a.length !== n) throw new Error(`playback.${what}: ${a.length} values for ${n} frames`);
+  }
+  for (let i = 1; i < n; i++) {
+    if (!(time[i] >= time[i - 1])) throw new Error(`playback.time[${i}] = ${time[i]} runs backwards`);
+  }
+  const nz = p.nozzle || {};
+  const table = p.table || {};
+  const plate = p.plate || {};
+  return {
+    kinematics: String(p.kinematics ?? 'xyz'),
+    sense: p.sense === 1 ? 1 : -1,
+    rotPoint: vec3(p.rot_point, 'playback.rot_point', [0, 0, 0]),
+    offset: vec3(p.offset, 'playback.offset', [0, 0, 0]),
+    pivotLength: num(p.pivot_length_mm, 0),
+    nozzle: {
+      halfAngle: num(nz.tip_half_angle_deg, 30), coneHeight: num(nz.cone_height_mm, 20),
+      cylinderRadius: num(nz.cylinder_radius_mm, 25), cylinderHeight: num(nz.cylinder_height_mm, 150),
+    },
+    table: { radius: num(table.radius_mm, 250), centre: Array.isArray(table.centre) ? [num(table.centre[0]), num(table.centre[1])] : [0, 0],
+      top: num(table.top_z_mm, -10) },
+    plate: { x: range(plate.x_mm), y: range(plate.y_mm), top: num(plate.top_z_mm, 0), thickness: num(plate.thickness_mm, 10) },
+    totalFrames: num(p.total_frames, n),
+    duration: num(p.duration_s, n ? time[n - 1] : 0),
+    n, joints, time, line, layer, flags,
+  };
+}
+
 export function decode(raw) {
   if (!raw || typeof raw !== 'object') throw new Error('polyaxis-data: not a JSON object');
   if (raw.format !== FORMAT) {
@@ -181,6 +220,7 @@ export function decode(raw) {
   const collisions = (raw.collisions || []).map((c, i) => ({
     position: vec3(c.position, `collisions[${i}].position`),
     what: String(c.what ?? ''),
+    line: Number.isInteger(c.line) ? c.line : 0,
   }));
   return {
     title: String(raw.title ?? ''),
@@ -192,6 +232,7 @@ export function decode(raw) {
     layers,
     toolpath,
     collisions,
+    playback: decodePlayback(raw.playback),
   };
 }
 

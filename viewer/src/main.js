@@ -1,5 +1,5 @@
 // polyaxis report viewer: reads <script id="polyaxis-data"> and builds the 3-D view and panels.
-import { Box3 } from 'three';
+import { Box3, Group } from 'three';
 import { readData } from './data.js';
 import { createView, expandBox } from './scene.js';
 import { regionColorMap, BACKGROUND, srgb8 } from './colors.js';
@@ -9,6 +9,8 @@ import { buildLayers } from './layers.js';
 import { buildToolpaths } from './toolpaths.js';
 import { buildCollisions } from './markers.js';
 import { buildPanel } from './panel.js';
+import { buildPlayback } from './playback.js';
+import { fmtNum } from './format.js';
 import { injectStyle } from './style.js';
 
 function showError(err) {
@@ -43,14 +45,17 @@ function start() {
   const layers = buildLayers(data.layers);
   if (box.isEmpty()) expandBox(box, (framed = [data.toolpath.points])[0]);
   if (box.isEmpty()) expandBox(box, (framed = [layers.contourPositions])[0]);
-  const { diag } = view.frame(box, framed);
+  const { diag, center } = view.frame(box, framed);
 
   const regions = buildRegions(data.regions, colorOf, diag);
   const axis = buildAxis(data.axis);
   const glyphLength = Number.isFinite(data.bead) && data.bead > 0 ? 2 * data.bead : diag * 0.02;
   const paths = buildToolpaths(data.toolpath, data.layers, colorOf, glyphLength);
   const collisions = buildCollisions(data.collisions);
-  view.scene.add(layers.group, paths.group, regions.group, regions.arrows, axis, collisions);
+  // Everything fixed to the part, in one group: a table-table machine's playback turns it.
+  const part = new Group();
+  part.add(layers.group, paths.group, regions.group, regions.arrows, axis, collisions);
+  view.scene.add(part);
 
   const panel = buildPanel(document.body, data, colorOf, { tilted: paths.tiltedCount });
   const nLayers = data.layers.length;
@@ -96,6 +101,8 @@ function start() {
     apply();
   }
 
+  const player = startPlayback(data, panel, part, view, setLayer, center, paths);
+
   setLayer(nLayers - 1);
   view.render();
 
@@ -104,11 +111,114 @@ function start() {
     setLayer: (i) => { const k = setLayer(i); view.render(); return k; },
     renderNow: () => view.render(),
     stats: { ...paths.stats, decodeMs: tDecoded - t0, contourPoints: layers.contourPoints, regions: data.regions.length },
+    playback: player,
   });
   Object.defineProperty(api, 'currentLayer', { get: () => current, enumerable: true });
   api.loadMs = performance.now() - t0;
   api.ready = true;
   document.body.dataset.ready = '1';
+}
+
+// The share of the page's pixel ratio drawn while the machine plays.
+const PLAYING_PIXEL_RATIO = 0.5;
+
+// Wires the playback controls (panel.playback) to the machine (playback.js); null without playback
+// data. The returned object is the test hook: seek(t), play(), pause(), stop() and frame times.
+function startPlayback(data, panel, part, view, setLayer, centre, paths) {
+  const pb = data.playback;
+  const c = panel.playback;
+  if (!pb || !c) return null;
+  const byIndex = new Map(data.layers.map((l, k) => [l.index, k]));
+  const machine = buildPlayback(pb, part, view.scene, data.collisions, (layer) => {
+    const k = byIndex.get(layer);
+    if (k !== undefined) setLayer(k);
+  });
+  let t = 0, playing = false, lastTs = null;
+  const fullRatio = view.renderer.getPixelRatio();
+  // The camera follows the part's centre as the table carries it (the view keeps its direction, so
+  // the table's turning shows), and comes back with it when the playback stops.
+  let followed = centre.clone();
+  function follow() {
+    const now = centre.clone().applyMatrix4(part.matrix);
+    const d = now.clone().sub(followed);
+    view.camera.position.add(d);
+    view.controls.target.add(d);
+    view.controls.update();
+    followed = now;
+  }
+  const intervals = [];
+  const names = ['X', 'Y', 'Z', data.machine.tilt_axis || 'T', 'C'];
+  function seek(to) {
+    if (!machine.isActive()) machine.setActive(true);
+    t = Math.max(0, Math.min(pb.duration, Number(to) || 0));
+    const s = machine.show(t);
+    follow();
+    c.time.value = String(pb.duration > 0 ? Math.round((t / pb.duration) * 10000) : 0);
+    if (s) {
+      const axes = s.joints.map((v, a) => `${names[a]}${v.toFixed(a < 3 ? 2 : 1)}`).join(' ');
+      c.readout.textContent = `t ${fmtNum(t)} s of ${fmtNum(pb.duration)} s · line ${s.line}\n${axes}\n` +
+        `process ${s.processOn ? 'ON' : 'off'}${s.rapid ? ' · rapid' : ''} · layer ${s.layer}` +
+        (s.struck !== null ? `\nCOLLISION at line ${s.struck}` : '');
+      c.readout.classList.toggle('px-struck', s.struck !== null);
+    }
+    view.requestRender();
+    return s;
+  }
+  function tick(ts) {
+    if (!playing) return;
+    if (lastTs !== null) {
+      const dt = ts - lastTs;
+      intervals.push(dt);
+      if (intervals.length > 600) intervals.shift();
+      const next = t + (dt / 1000) * Number(c.speed.value);
+      if (next >= pb.duration) pause();
+      seek(next);
+    }
+    lastTs = ts;
+    if (playing) requestAnimationFrame(tick);
+  }
+  function play() {
+    if (playing) return;
+    if (t >= pb.duration) t = 0;
+    playing = true;
+    lastTs = null;
+    paths.setLight(true);
+    // Half the pixels while playing: software WebGL pays for every blended pixel of every frame.
+    view.renderer.setPixelRatio(PLAYING_PIXEL_RATIO * fullRatio);
+    view.renderer.setSize(window.innerWidth, window.innerHeight, false);
+    c.play.textContent = '❚❚ pause';
+    requestAnimationFrame(tick);
+  }
+  function pause() {
+    playing = false;
+    paths.setLight(false, { travel: panel.checks.travel.checked, glyphs: panel.checks.glyphs.checked });
+    view.renderer.setPixelRatio(fullRatio);
+    view.renderer.setSize(window.innerWidth, window.innerHeight, false);
+    c.play.textContent = '▶ play';
+    view.requestRender();
+  }
+  function stop() {
+    pause();
+    machine.setActive(false);
+    follow();
+    c.readout.classList.remove('px-struck');
+    setLayer(data.layers.length - 1);
+    view.requestRender();
+  }
+  c.play.addEventListener('click', () => (playing ? pause() : play()));
+  c.stop.addEventListener('click', stop);
+  c.time.addEventListener('input', () => seek((Number(c.time.value) / 10000) * pb.duration));
+  window.addEventListener('keydown', (e) => {
+    if (e.key !== ' ' || e.target instanceof HTMLInputElement || e.target instanceof HTMLButtonElement) return;
+    e.preventDefault();
+    if (playing) pause(); else play();
+  });
+  return {
+    duration: pb.duration, frames: pb.n, seek: (to) => { const s = seek(to); view.render(); return s; }, play, pause, stop,
+    isPlaying: () => playing,
+    // Milliseconds between the animation frames while playing (each draws the moved machine).
+    frameTimes: () => intervals.slice(),
+  };
 }
 
 try {

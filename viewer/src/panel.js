@@ -110,6 +110,26 @@ export function buildPanel(root, data, colorOf, extra) {
     left.append(table);
   }
 
+  // machine playback: the program as the controller runs it
+  let playback = null;
+  if (data.playback && data.playback.n > 0) {
+    const pb = data.playback;
+    left.append(el('h2', { text: 'Machine playback' }));
+    const play = el('button', { id: 'px-play', text: '▶ play', title: 'play or pause the program (space)' });
+    const stop = el('button', { id: 'px-stop', text: '■ stop', title: 'leave the playback: the part as planned' });
+    const speed = el('select', { id: 'px-speed', title: 'machine seconds per second' });
+    for (const v of [1, 10, 100, 1000, 10000]) speed.append(el('option', { value: String(v), text: `${fmtNum(v)}×` }));
+    speed.value = String(pb.duration > 20000 ? 1000 : pb.duration > 2000 ? 100 : 10);
+    const time = el('input', { type: 'range', id: 'px-time', min: '0', max: '10000', step: '1', value: '0', title: 'program time' });
+    const readout = el('div', { id: 'px-playback-info', class: 'px-readout' });
+    left.append(el('div', { class: 'px-play-row' }, play, stop, speed));
+    left.append(el('div', { class: 'px-slider-row' }, time));
+    left.append(readout);
+    const frames = pb.totalFrames !== pb.n ? `${fmtNum(pb.n)} of ${fmtNum(pb.totalFrames)} blocks kept` : `${fmtNum(pb.n)} blocks`;
+    readout.textContent = `${frames}, ${fmtNum(pb.duration)} s of machine time`;
+    playback = { play, stop, speed, time, readout };
+  }
+
   if (collisions.length) {
     left.append(el('h2', { text: `Collisions (${collisions.length})`, class: 'px-bad' }));
     const list = collisions.slice(0, 8).map((c) => [fmtVec(c.position, 1), c.what]);
@@ -151,5 +171,5 @@ export function buildPanel(root, data, colorOf, extra) {
     ]));
   }
 
-  return { slider, checks, showLayer };
+  return { slider, checks, showLayer, playback };
 }

@@ -32,6 +32,10 @@ html, body { margin: 0; height: 100%; overflow: hidden; background: ${BACKGROUND
 .px-swatch { display: inline-block; width: 10px; height: 10px; border-radius: 2px; vertical-align: -1px;
   border: 1px solid rgba(0,0,0,0.25); }
 .px-hint { color: #7b8794; margin-top: 8px; }
+.px-play-row { display: flex; gap: 6px; align-items: center; margin-bottom: 4px; }
+.px-play-row button, .px-play-row select { font: inherit; padding: 1px 6px; }
+.px-readout { font-variant-numeric: tabular-nums; white-space: pre-wrap; }
+.px-readout.px-struck { color: #d00; font-weight: 600; }
 .px-right summary { font-weight: 600; cursor: pointer; }
 .px-error { position: fixed; left: 50%; top: 20px; transform: translateX(-50%); max-width: 80vw; z-index: 10;
   background: #fff0f0; border: 2px solid #d00; border-radius: 6px; padding: 10px 14px; color: #900;

@@ -8,6 +8,10 @@ import { setRange, shareGeometry } from './buffers.js';
 
 export const MAX_GLYPHS = 20000; // glyphs of all layers together
 export const MAX_CURRENT_GLYPHS = 4000; // glyphs of the current layer
+// While the machine plays back, the layers below the current one are drawn from every n-th layer
+// only, at most this many deposit segments in all: software WebGL draws a frame of a million
+// segments in about half a second, of this many in a few tens of milliseconds.
+export const MAX_PLAYING_SEGMENTS = 40000;
 const DEPOSIT_SHADE = 0.7; // deposit lines darker than their region's mesh, to stand out inside it
 const TILT_LIMIT_COS = Math.cos((1 * Math.PI) / 180); // tilted: more than 1 degree from the layer normal
 
@@ -111,6 +115,24 @@ export function buildToolpaths(tp, layers, colorOf, glyphLength) {
     throw new Error(`internal: toolpath buffer sizes disagree (${wd}/${depIdx.length}, ${wt}/${travIdx.length}, ${wg}/${nGlyph})`);
   }
 
+  // The light index for playback: the deposit of every EVERY-th layer, in layer order.
+  const every = Math.max(1, Math.ceil(nDep / MAX_PLAYING_SEGMENTS));
+  let nLight = 0;
+  for (let k = 0; k < L; k += every) nLight += 2 * depositCount[k];
+  const lightIdx = new Uint32Array(nLight);
+  const lightEnds = new Uint32Array(L);
+  {
+    let w = 0;
+    for (let k = 0; k < L; k++) {
+      if (k % every === 0) {
+        const a = k > 0 ? depEnds[k - 1] : 0;
+        lightIdx.set(depIdx.subarray(a, depEnds[k]), w);
+        w += depEnds[k] - a;
+      }
+      lightEnds[k] = w;
+    }
+  }
+
   const position = new BufferAttribute(points, 3);
   const color = new BufferAttribute(colors, 3, true);
   const depPast = new BufferGeometry();
@@ -118,6 +140,11 @@ export function buildToolpaths(tp, layers, colorOf, glyphLength) {
   depPast.setAttribute('color', color);
   depPast.setIndex(new BufferAttribute(depIdx, 1));
   const depCur = shareGeometry(depPast);
+  const depLight = new BufferGeometry();
+  depLight.setAttribute('position', position);
+  depLight.setAttribute('color', color);
+  depLight.setIndex(new BufferAttribute(lightIdx, 1));
+  depLight.setDrawRange(0, 0);
   const trav = new BufferGeometry();
   trav.setAttribute('position', position);
   trav.setIndex(new BufferAttribute(travIdx, 1));
@@ -137,7 +164,10 @@ export function buildToolpaths(tp, layers, colorOf, glyphLength) {
 
   const pastMaterial = new LineBasicMaterial({ vertexColors: true, transparent: true, opacity: 0.55 });
   const deposit = new Group();
-  deposit.add(lines(depPast, pastMaterial, 3), lines(depCur, new LineBasicMaterial({ vertexColors: true }), 4));
+  const pastLines = lines(depPast, pastMaterial, 3);
+  const lightLines = lines(depLight, pastMaterial, 3);
+  lightLines.visible = false;
+  deposit.add(pastLines, lightLines, lines(depCur, new LineBasicMaterial({ vertexColors: true }), 4));
   const travel = lines(trav, new LineBasicMaterial({
     color: new Color(COLORS.travel), transparent: true, opacity: 0.35,
   }), 3);
@@ -150,11 +180,12 @@ export function buildToolpaths(tp, layers, colorOf, glyphLength) {
 
   function setLayer(k) {
     if (k < 0 || L === 0) {
-      for (const g of [depPast, depCur, trav, glyphPast, glyphCur]) g.setDrawRange(0, 0);
+      for (const g of [depPast, depLight, depCur, trav, glyphPast, glyphCur]) g.setDrawRange(0, 0);
       return;
     }
     const dPrev = k > 0 ? depEnds[k - 1] : 0;
     setRange(depPast, 0, dPrev);
+    setRange(depLight, 0, k > 0 ? lightEnds[k - 1] : 0);
     setRange(depCur, dPrev, depEnds[k]);
     setRange(trav, 0, travEnds[k]);
     setRange(glyphPast, 0, 2 * (k > 0 ? glyphEnds[k - 1] : 0));
@@ -173,8 +204,17 @@ export function buildToolpaths(tp, layers, colorOf, glyphLength) {
     glyphCur.setDrawRange(0, 2 * g);
   }
 
+  // Light drawing while the machine plays: the lower layers sampled, no travel or glyphs (the
+  // head's motion shows them). SHOWN: the travel and glyph toggles, restored when it ends.
+  function setLight(on, shown = { travel: true, glyphs: true }) {
+    pastLines.visible = !on;
+    lightLines.visible = on;
+    travel.visible = !on && shown.travel;
+    glyphs.visible = !on && shown.glyphs;
+  }
+
   return {
-    group, deposit, travel, glyphs, setLayer, pastMaterial,
+    group, deposit, travel, glyphs, setLayer, setLight, pastMaterial,
     stats: { depositSegments: nDep, travelSegments: nTrav, glyphs: nGlyph, glyphStride: stride },
     tiltedCount, depositCount,
   };

@@ -169,6 +169,42 @@ try {
     }
     changeNote = `slider last→first changed ${second.changed} px, regions toggle ${toggled.changed} px`;
   }
+  let playNote = 'no playback';
+  const hasPlayback = await page.evaluate(() => window.polyaxisViewer.playback !== null && window.polyaxisViewer.playback !== undefined);
+  if (hasPlayback) {
+    // Scrub like a user (the time slider), then play: the machine moves, the picture changes, and
+    // the frame time while playing is measured.
+    const pb = await page.evaluate(() => ({ duration: window.polyaxisViewer.playback.duration, frames: window.polyaxisViewer.playback.frames }));
+    const scrub = async (share) => page.evaluate((v) => {
+      const s = document.getElementById('px-time');
+      s.value = String(Math.round(v * 10000));
+      s.dispatchEvent(new Event('input', { bubbles: true }));
+      window.polyaxisViewer.renderNow();
+      return document.getElementById('px-playback-info').textContent;
+    }, share);
+    const early = await scrub(0.25);
+    await page.evaluate(measureCanvas);
+    const late = await scrub(0.75);
+    const moved = await page.evaluate(measureCanvas);
+    if (!/line \d+/.test(early) || !/line \d+/.test(late)) await finish(1, `FAIL ${name}: the playback readout names no line: "${late}"`);
+    if (moved.changed < MIN_CHANGED) {
+      await finish(1, `FAIL ${name}: scrubbing the playback from 25 % to 75 % did not change the picture (${moved.changed} px)`);
+    }
+    await page.evaluate(measureCanvas);
+    await page.click('#px-play');
+    await new Promise((r) => setTimeout(r, 2500));
+    const times = await page.evaluate(() => { const p = window.polyaxisViewer.playback; p.pause(); return p.frameTimes(); });
+    const played = await page.evaluate(measureCanvas);
+    if (times.length < 3) await finish(1, `FAIL ${name}: playing drew ${times.length} frames in 2.5 s`);
+    if (played.changed < MIN_CHANGED) await finish(1, `FAIL ${name}: playing did not change the picture (${played.changed} px)`);
+    const sorted = times.slice().sort((a, b) => a - b);
+    const mean = times.reduce((a, b) => a + b, 0) / times.length;
+    const p95 = sorted[Math.min(sorted.length - 1, Math.floor(0.95 * sorted.length))];
+    playNote = `playback ${pb.frames} frames over ${pb.duration.toFixed(0)} s: scrub changed ${moved.changed} px, `
+      + `play changed ${played.changed} px, frame time mean ${mean.toFixed(1)} ms, p95 ${p95.toFixed(1)} ms (${times.length} frames)`;
+    console.log(playNote);
+    await page.evaluate(() => window.polyaxisViewer.playback.stop());
+  }
   if (screenshot) {
     // the whole plan (last layer) unless --layer K asks for another one
     const k = shotLayer === undefined ? info.layers - 1 : Number(shotLayer);
@@ -177,7 +213,7 @@ try {
   }
   if (problems.length) await finish(1, `FAIL ${name}: ${problems.join('; ')}`);
   await finish(0, `PASS ${name}: ready in ${loadS} s, ${info.layers} layers, ${first.count} px drawn `
-    + `(${(100 * fraction).toFixed(1)} %), ${changeNote}, total ${elapsed()} s${screenshot ? `, screenshot ${screenshot}` : ''}`);
+    + `(${(100 * fraction).toFixed(1)} %), ${changeNote}, ${playNote}, total ${elapsed()} s${screenshot ? `, screenshot ${screenshot}` : ''}`);
 } catch (e) {
   await finish(1, `FAIL ${name}: ${e.message.split('\n')[0]}${problems.length ? `; ${problems.join('; ')}` : ''}`);
 }

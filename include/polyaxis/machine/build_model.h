@@ -48,7 +48,7 @@ struct BuildModel {
   NozzleModel nozzle;
   std::vector<HeadBox> head_boxes;
   double table_radius_mm = 250.0;
-  Vec3 table_centre_mm;  // where the C axis crosses the table (x, y of the rotation point)
+  Vec3 table_centre_mm;  // where the C axis crosses the table (x, y of the rotation point); the middle of the travel on a fixed table
   SubstratePlate substrate;
   PrebuiltBody prebuilt;
 

@@ -16,6 +16,20 @@
 // (trivkins, or M429 in LinuxCNC's switchable trt sample configs); with trt-kins active (TCP) the
 // controller would instead take the part-frame tip.
 //
+// Head-head machines ("xyzbc-head", "xyzac-head"): the part is fixed, so the part frame is the
+// machine frame (no rotation). The head turns about Z (C) and tilts about its own Y (B) or X (A);
+// the tilt and C axes meet at the pivot, L = pivot_length_mm up the tool axis from the tip. X Y Z
+// are the tip's position when the head is vertical (the pivot less L·ẑ), as LinuxCNC's 5axiskins
+// (whose forward map is exactly this for B/C):
+//
+//   axis = (−sinB·cosC, −sinB·sinC, cosB)        (B/C: Rz(C)·Ry(−B)·ẑ)
+//   axis = ( sinA·sinC, −sinA·cosC, cosA)        (A/C: Rz(C)·Rx(A)·ẑ)
+//   tip  = joints + L·(ẑ − axis)
+//
+// The inverse has the same two branches and the same singularity (tilt 0: C held) as the tables'.
+// As on the tables, the G-code carries joint values (trivkins); with 5axiskins active the
+// controller would take the tip instead.
+//
 // Dwivedi (2004) Rules 6-9 are the special case rp = pivot, d = offsets r and h: the orientation
 // angles follow from the tool axis components (Rule 6) and the compensating translations are the
 // rotated pivot offset (Rule 8); tests/unit/machine/test_kinematics.cpp checks both.
@@ -46,7 +60,8 @@ inline constexpr double kThreeAxisAxisToleranceRad = 1e-6;
 inline constexpr double kAxisLimitSlack = 1e-9;
 
 // One set of axis positions. Units: mm for x_mm y_mm z_mm (joint positions), degrees for the
-// rotary words (a_or_b_deg is A on xyzac-trt, B on xyzbc-trt). Rotary fields are 0 on 3-axis.
+// rotary words (a_or_b_deg is A on xyzac-trt and xyzac-head, B on xyzbc-trt and xyzbc-head).
+// Rotary fields are 0 on 3-axis.
 struct MachinePose {
   double x_mm = 0.0;
   double y_mm = 0.0;

@@ -20,13 +20,21 @@ enum class Kinematics {
   k3Axis,               // "xyz": tool along machine +Z, no rotary axes
   kTableTiltA_RotaryC,  // "xyzac-trt": table tilts about X (A), rotary table C mounted on it
   kTableTiltB_RotaryC,  // "xyzbc-trt": table tilts about Y (B), rotary table C mounted on it
+  kHeadTiltA_RotaryC,   // "xyzac-head": the head turns about Z (C) and tilts about its X (A); the table is fixed
+  kHeadTiltB_RotaryC,   // "xyzbc-head": the head turns about Z (C) and tilts about its Y (B), LinuxCNC's 5axiskins
 };
 
-// "xyz", "xyzac-trt", "xyzbc-trt": the names machine files use.
+// "xyz", "xyzac-trt", "xyzbc-trt", "xyzac-head", "xyzbc-head": the names machine files use.
 std::string_view kinematics_name(Kinematics kind);
-// 'A' or 'B' for the table-table machines, '\0' for 3-axis.
+// 'A' or 'B' for the 5-axis machines, '\0' for 3-axis.
 char tilt_axis_letter(Kinematics kind);
 inline bool has_rotary_axes(Kinematics kind) { return kind != Kinematics::k3Axis; }
+// The head tilts and turns; the part stays fixed on the table, so gravity does not turn with a
+// region's build direction (the planner keeps build directions within the process's
+// off_vertical_max_deg of +Z there).
+inline bool tilts_head(Kinematics kind) { return kind == Kinematics::kHeadTiltA_RotaryC || kind == Kinematics::kHeadTiltB_RotaryC; }
+// The table tilts and turns the part under a vertical tool.
+inline bool turns_table(Kinematics kind) { return kind == Kinematics::kTableTiltA_RotaryC || kind == Kinematics::kTableTiltB_RotaryC; }
 
 struct AxisRange {
   double min = 0.0;  // mm for X Y Z, degrees for A B C
@@ -45,6 +53,9 @@ struct TrtPivot {
   // false: LinuxCNC 2.9's trt-kins rotation sense (opposite to the conventional directions);
   // true: conventional right-hand directions (the later conventional-directions pin).
   bool conventional_directions = false;
+  // Head-head machines only: from the nozzle tip up the tool axis to the point where the tilt and
+  // C axes meet (LinuxCNC 5axiskins' pivot-length), mm, > 0. See kinematics.h.
+  double pivot_length_mm = 0.0;
 };
 
 struct FeedLimits {
@@ -96,8 +107,9 @@ struct MachineConfig {
 bool unwinds_c(const MachineConfig& machine);
 
 // Where a part's footprint is centred and the table is, in program coordinates (x, y; z = 0): on a
-// table-table machine the rotary table's axis, X = Y = 0 of the part frame; on a 3-axis machine,
-// whose limits need not contain 0 (a gantry's run from 0 to 1200), the middle of the X and Y travel.
+// table-table machine the rotary table's axis, X = Y = 0 of the part frame; on a 3-axis or
+// head-head machine, whose limits need not contain 0 (a gantry's run from 0 to 1200), the middle of
+// the X and Y travel.
 core::Vec3 work_centre_mm(const MachineConfig& machine);
 
 // The C (degrees) that an unwind turns to from C_DEG, when C will then sweep over

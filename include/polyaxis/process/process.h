@@ -31,6 +31,11 @@ struct ProcessConfig {
   // Tilted layers: the largest volumetric difference between adjacent layers (Ruan Eq. 9), as the
   // area of the two sections' symmetric difference over the larger one's (slicing/tilted.cpp).
   double voldiff = 0.05;
+  // On a machine that tilts its head over a fixed part (xyzac-head, xyzbc-head) gravity does not
+  // turn with a region: a region may be built along a direction at most this far from vertical
+  // (degrees, [0, 90)); 0 builds every region straight up, the torch still tilting. Table-table
+  // machines turn each region's direction up, so it does not apply to them.
+  double off_vertical_max_deg = 0.0;
   // The substrate plate the part is built on (its top is the part's base, Z = 0 on the table):
   // THICKNESS, and either an explicit size (both > 0) or the part's footprint grown by MARGIN.
   struct Substrate {

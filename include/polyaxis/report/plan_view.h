@@ -17,6 +17,7 @@
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
 #include "polyaxis/planner/plan.h"
+#include "polyaxis/verify/playback.h"
 #include "polyaxis/verify/verify.h"
 
 namespace polyaxis::report {
@@ -53,6 +54,14 @@ struct ViewAxis {
 struct ViewCollision {
   Vec3 position;     // the nozzle tip, placed frame
   std::string what;  // "layer 3 region 1, line 812: the head strikes the deposit of layer 2 region 0 (0.40 mm)"
+  std::uint64_t line = 0;  // its G-code line (0: not known, in plans written before it was kept)
+};
+
+// Machine playback in report.html (issue 15, item 4): the machine that runs the program and the
+// program's frames as its controller reads them (verify::playback_frames).
+struct ViewPlayback {
+  machine::MachineConfig machine;
+  std::vector<verify::PlaybackFrame> frames;
 };
 
 struct PlanView {
@@ -74,6 +83,8 @@ struct PlanView {
   std::vector<planner::Rule> rules;
   std::vector<planner::Reorientation> reorientations;
   machine::BuildModel build_model;
+  // Set by `plan` from the G-code it wrote; absent when the view is read back from plan.json.
+  std::optional<ViewPlayback> playback;
 };
 
 // The view of PLAN. AXIS (part frame, before placement) may be null. METRICS_JSON is report.json.

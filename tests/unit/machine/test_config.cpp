@@ -106,7 +106,7 @@ TEST(MachineConfig, P3MinAboveMaxNamesBothKeys) {
 TEST(MachineConfig, P4KinematicsAndAxes) {
   const std::string msg = machine_error(edit(kAc, "xyzac-trt", "xyzac-tcp"));
   EXPECT_NE(msg.find("xyzac-tcp"), std::string::npos);
-  EXPECT_NE(msg.find("xyz, xyzac-trt, xyzbc-trt"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("xyz, xyzac-trt, xyzbc-trt, xyzac-head, xyzbc-head"), std::string::npos) << msg;
   EXPECT_NE(machine_error(edit(kAc, R"(,
     "c": {"continuous": true, "unwind": false})", "")).find("limits.c"),
             std::string::npos);
@@ -120,6 +120,34 @@ TEST(MachineConfig, P4KinematicsAndAxes) {
   // Unwinding is asked of a continuous C; a C with end stops is always unwound.
   EXPECT_NE(machine_error(edit(kAc, R"({"continuous": true, "unwind": false})", R"({"min": -360, "max": 360, "unwind": true})"))
                 .find("limits.c.unwind"),
+            std::string::npos);
+}
+
+TEST(MachineConfig, HeadHeadNeedsItsPivotLengthAndNothingElse) {
+  const std::string head = edit(edit(edit(kAc, "xyzac-trt", "xyzbc-head"), R"("a": {)", R"("b": {)"),
+                                R"("pivot": {
+    "x_rot_point_mm": 0,
+    "y_rot_point_mm": 0,
+    "z_rot_point_mm": 0,
+    "y_offset_mm": 0,
+    "z_offset_mm": -80,
+    "tool_offset_mm": 0,
+    "conventional_directions": false
+  })",
+                                R"("pivot": {"pivot_length_mm": 150})");
+  auto m = parse_machine(head, "head.json");
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m.value().kind, Kinematics::kHeadTiltB_RotaryC);
+  EXPECT_EQ(tilt_axis_letter(m.value().kind), 'B');
+  EXPECT_DOUBLE_EQ(m.value().pivot.pivot_length_mm, 150.0);
+  EXPECT_NE(machine_error(edit(head, R"("pivot_length_mm": 150)", R"("pivot_length_mm": 0)")).find("pivot.pivot_length_mm"), std::string::npos);
+  EXPECT_NE(machine_error(edit(head, R"({"pivot_length_mm": 150})", R"({"pivot_length_mm": 150, "z_offset_mm": 3})")).find("z_offset_mm"),
+            std::string::npos);
+  EXPECT_NE(machine_error(edit(head, R"(,
+  "pivot": {"pivot_length_mm": 150})", "")).find("pivot_length_mm"),
+            std::string::npos);
+  // A table-table machine has no pivot length.
+  EXPECT_NE(machine_error(edit(kAc, R"("tool_offset_mm": 0,)", R"("tool_offset_mm": 0, "pivot_length_mm": 150,)")).find("pivot_length_mm"),
             std::string::npos);
 }
 

@@ -25,6 +25,7 @@ MachineConfig five_axis(Kinematics kind, bool conventional) {
   m.pivot = {12.5, -7.0, 30.0, 0.0, 0.0, -80.0, 15.0, conventional};
   if (kind == Kinematics::kTableTiltA_RotaryC) m.pivot.y_offset_mm = 20.0;
   if (kind == Kinematics::kTableTiltB_RotaryC) m.pivot.x_offset_mm = -25.0;
+  if (tilts_head(kind)) m.pivot = TrtPivot{}, m.pivot.pivot_length_mm = 175.0;
   return m;
 }
 
@@ -80,7 +81,46 @@ INSTANTIATE_TEST_SUITE_P(Kinds, RoundTrip,
                                            std::pair{Kinematics::kTableTiltA_RotaryC, true},
                                            std::pair{Kinematics::kTableTiltB_RotaryC, false},
                                            std::pair{Kinematics::kTableTiltB_RotaryC, true},
+                                           std::pair{Kinematics::kHeadTiltA_RotaryC, false},
+                                           std::pair{Kinematics::kHeadTiltB_RotaryC, false},
                                            std::pair{Kinematics::k3Axis, false}));
+
+// LinuxCNC's 5axiskins forward map (the head tilts B about its Y and turns C about Z, the pivot
+// pivot_length above the tip), written as it is there: r = s2r(L, C, 180° − B), the spherical
+// point of radius L at azimuth C and polar angle 180° − B, and tip = joints + r + (0, 0, L).
+Vec3 linuxcnc_5axis_forward(double pivot_length, const MachinePose& j) {
+  const double t = j.c_deg * kDeg, p = (180.0 - j.a_or_b_deg) * kDeg;
+  const Vec3 r{pivot_length * std::sin(p) * std::cos(t), pivot_length * std::sin(p) * std::sin(t), pivot_length * std::cos(p)};
+  return {j.x_mm + r.x, j.y_mm + r.y, j.z_mm + r.z + pivot_length};
+}
+
+TEST(Kinematics, HeadBcForwardIsLinuxCnc5AxisKins) {
+  const MachineConfig m = five_axis(Kinematics::kHeadTiltB_RotaryC, false);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> lin(-300.0, 300.0), tilt(-120.0, 120.0), c(-720.0, 720.0);
+  for (int i = 0; i < 500; ++i) {
+    const MachinePose j{lin(rng), lin(rng), lin(rng), tilt(rng), c(rng)};
+    const MachineToolPose tp = forward(m, j);
+    EXPECT_LT(dist(tp.tip_part_mm, linuxcnc_5axis_forward(m.pivot.pivot_length_mm, j)), 1e-9);
+    // The tool axis runs from the tip to the pivot, which stays where the joints put it.
+    const Vec3 pivot{j.x_mm, j.y_mm, j.z_mm + m.pivot.pivot_length_mm};
+    EXPECT_LT(dist(tp.tip_part_mm + tp.tool_axis_part * m.pivot.pivot_length_mm, pivot), 1e-9);
+  }
+  // B = 90° at C = 0 lays the tool along −X: the tip swings out to +X of the pivot.
+  const MachineToolPose side = forward(m, {0.0, 0.0, 0.0, 90.0, 0.0});
+  EXPECT_LT(dist(side.tool_axis_part, {-1.0, 0.0, 0.0}), 1e-12);
+  EXPECT_LT(dist(side.tip_part_mm, {175.0, 0.0, 175.0}), 1e-9);
+}
+
+TEST(Kinematics, HeadAcTiltsAboutItsX) {
+  const MachineConfig m = five_axis(Kinematics::kHeadTiltA_RotaryC, false);
+  // A = 90° at C = 0: the axis Rx(90°)·ẑ = −Y; at C = 90° it is turned to +X.
+  EXPECT_LT(dist(forward(m, {0, 0, 0, 90.0, 0.0}).tool_axis_part, {0.0, -1.0, 0.0}), 1e-12);
+  EXPECT_LT(dist(forward(m, {0, 0, 0, 90.0, 90.0}).tool_axis_part, {1.0, 0.0, 0.0}), 1e-12);
+  // The part does not move: the tip is the joints plus the pivot's swing, whatever C.
+  const MachineToolPose tp = forward(m, {10.0, 20.0, 30.0, 30.0, 45.0});
+  EXPECT_LT(dist(tp.tip_part_mm, Vec3{10.0, 20.0, 30.0} + (Vec3{0, 0, 1} - tp.tool_axis_part) * 175.0), 1e-9);
+}
 
 // LinuxCNC 2.9's xyzac-trt-kins forward map (trtfuncs.c, before the conventional-directions pin),
 // written out term by term as it is there, with joints (x, y, z, a, c).
@@ -195,7 +235,8 @@ TEST(Kinematics, DwivediRules8And9CompensatingTranslation) {
 }
 
 TEST(Kinematics, SingularTiltHoldsC) {
-  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC}) {
+  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC, Kinematics::kHeadTiltA_RotaryC,
+                                Kinematics::kHeadTiltB_RotaryC}) {
     const MachineConfig m = five_axis(kind, false);
     MachinePose prev{0.0, 0.0, 0.0, 10.0, 123.0};
     // Tiny tilts in every direction, and exactly vertical: C stays at 123°.
@@ -217,7 +258,8 @@ TEST(Kinematics, SingularTiltHoldsC) {
 TEST(Kinematics, UpsideDownToolTakesTheHalfTurnNearestThePreviousTilt) {
   // With the tool along −Z the tilt is ±180°, the same orientation: the one next to the previous
   // tilt is taken, so the table does not swing a full turn between them. C is held.
-  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC}) {
+  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC, Kinematics::kHeadTiltA_RotaryC,
+                                Kinematics::kHeadTiltB_RotaryC}) {
     const MachineConfig m = five_axis(kind, false);
     for (const double prev_tilt : {-170.0, 170.0}) {
       const MachinePose prev{0.0, 0.0, 0.0, prev_tilt, 37.0};

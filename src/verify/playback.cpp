@@ -1,0 +1,38 @@
+#include "polyaxis/verify/playback.h"
+
+#include <algorithm>
+
+#include "gcode_walk.h"
+
+namespace polyaxis::verify {
+
+core::Result<std::vector<PlaybackFrame>> playback_frames(const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                                         std::string_view gcode) {
+  std::vector<PlaybackFrame> frames;
+  double now = 0.0;
+  machine::MachinePose at{};
+  bool process_on = false;
+  std::int64_t layer = -1, region = -1;
+  detail::WalkCallbacks cb;
+  cb.move = [&](const detail::WalkMove& mv) {
+    double minutes = mv.time_min;
+    if (mv.from_known && (mv.rapid || minutes <= 0.0)) {
+      const double linear = mv.l_xyz_mm / machine.feed.linear_max_mm_min;
+      const double rotary = std::max(mv.d_tilt_deg, mv.d_c_deg) / machine.feed.rotary_max_deg_min;
+      minutes = std::max(linear, rotary);
+    }
+    if (mv.from_known) now += 60.0 * std::max(0.0, minutes);
+    at = mv.to, process_on = mv.process_on, layer = mv.layer, region = mv.region;
+    frames.push_back({mv.to, now, mv.line, mv.process_on, mv.rapid, mv.layer, mv.region});
+  };
+  cb.dwell = [&](std::uint64_t line, double seconds, bool on) {
+    now += std::max(0.0, seconds);
+    process_on = on;
+    if (!frames.empty()) frames.push_back({at, now, line, on, false, layer, region});
+  };
+  bool end = false;
+  if (auto st = detail::walk_gcode(machine, gcode, &process, cb, &end); !st) return st.error();
+  return frames;
+}
+
+}  // namespace polyaxis::verify
