@@ -1,4 +1,4 @@
-// ISO / LinuxCNC G-code for 3-axis and table-table 5-axis deposition machines (SPEC §2.7).
+// ISO / LinuxCNC G-code for 3-axis, table-table and head-head 5-axis deposition machines (SPEC §2.7).
 //
 // The axis words are joint positions (machine/kinematics.h): the program runs on a controller with
 // identity kinematics, e.g. trivkins or LinuxCNC's switchable trt configs in identity mode (M429).
