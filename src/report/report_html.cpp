@@ -206,7 +206,10 @@ std::string view_data_json(const PlanView& view, const HtmlOptions& options) {
                    p.z, nlohmann::json(view.collisions[i].what).dump(), view.collisions[i].line);
   }
   out += "]";
-  if (view.playback) out += ",\n\"playback\":" + playback_json(*view.playback, view.build_model, options.max_points);
+  if (view.playback) {
+    const std::size_t frames = options.max_points == 0 ? 0 : std::min(options.max_points, kViewerMaxFrames);  // 0: all
+    out += ",\n\"playback\":" + playback_json(*view.playback, view.build_model, frames);
+  }
   out += "}";
   return out;
 }

@@ -14,6 +14,10 @@ namespace polyaxis::report {
 // A plan with more program points than this is shown decimated: within each run of deposit or
 // travel moves every k-th point is kept, with the run's ends, so the page stays interactive.
 inline constexpr std::size_t kViewerMaxPoints = 400'000;
+// The machine playback keeps at most this many G-code blocks (or max_points when smaller; all when
+// max_points is 0): every k-th and every one where the process, the layer or the motion mode
+// changes. 33 bytes a block.
+inline constexpr std::size_t kViewerMaxFrames = 200'000;
 
 struct HtmlOptions {
   std::size_t max_points = kViewerMaxPoints;
