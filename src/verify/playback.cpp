@@ -11,7 +11,6 @@ core::Result<std::vector<PlaybackFrame>> playback_frames(const machine::MachineC
   std::vector<PlaybackFrame> frames;
   double now = 0.0;
   machine::MachinePose at{};
-  bool process_on = false;
   std::int64_t layer = -1, region = -1;
   detail::WalkCallbacks cb;
   cb.move = [&](const detail::WalkMove& mv) {
@@ -22,12 +21,11 @@ core::Result<std::vector<PlaybackFrame>> playback_frames(const machine::MachineC
       minutes = std::max(linear, rotary);
     }
     if (mv.from_known) now += 60.0 * std::max(0.0, minutes);
-    at = mv.to, process_on = mv.process_on, layer = mv.layer, region = mv.region;
+    at = mv.to, layer = mv.layer, region = mv.region;
     frames.push_back({mv.to, now, mv.line, mv.process_on, mv.rapid, mv.layer, mv.region});
   };
   cb.dwell = [&](std::uint64_t line, double seconds, bool on) {
     now += std::max(0.0, seconds);
-    process_on = on;
     if (!frames.empty()) frames.push_back({at, now, line, on, false, layer, region});
   };
   bool end = false;
