@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <numbers>
 
 namespace polyaxis::machine {
@@ -30,6 +31,20 @@ Vec3 slerp(Vec3 a, Vec3 b, double omega, double s) {
   if (omega < kSlerpParallelRad) return normalized(lerp(a, b, s));
   const double so = std::sin(omega);
   return a * (std::sin((1.0 - s) * omega) / so) + b * (std::sin(s * omega) / so);
+}
+
+// Where a move cannot be followed: the C that the pose at (TIP, AXIS) takes following FROM on a
+// machine without end stops, when that is beyond MACHINE's end stops (the inverse kinematics then
+// took the same orientation a turn away, or the other branch: a jump no piece of the move can make).
+std::optional<double> past_end_stop(const MachineConfig& machine, Vec3 tip, Vec3 axis, const MachinePose& from) {
+  if (!has_rotary_axes(machine.kind) || machine.c_continuous) return std::nullopt;
+  MachineConfig free = machine;
+  free.c_continuous = true;
+  auto pose = inverse(free, tip, axis, &from);
+  if (!pose) return std::nullopt;
+  const double c = pose.value().c_deg;
+  if (c >= machine.c_deg.min - kAxisLimitSlack && c <= machine.c_deg.max + kAxisLimitSlack) return std::nullopt;
+  return c;
 }
 
 struct Subdivider {
@@ -174,6 +189,7 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
     for (;;) {
       auto b = sb == 1.0 ? inverse(machine, p1, t1, &a) : inverse(machine, lerp(p0, p1, sb), slerp(t0, t1, omega, sb), &a);
       if (!b) return b.error();
+
       const double rotary = std::max(std::abs(b.value().a_or_b_deg - a.a_or_b_deg), std::abs(b.value().c_deg - a.c_deg));
       const double dev = sub.deviation(a, sa, b.value(), sb);
       if (dev <= chordal_mm && rotary <= kMaxRotaryStepDeg) {
@@ -184,6 +200,16 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
         break;
       }
       if (sb - sa <= min_step) {
+        if (auto past = past_end_stop(machine, lerp(p0, p1, sb), slerp(t0, t1, omega, sb), a)) {
+          return core::make_error(
+              core::ErrorCode::kMachineLimit,
+              fmt::format("C would run past its end stops [{}, {}] deg within the move ({:.4f}, {:.4f}, {:.4f})-({:.4f}, {:.4f}, "
+                          "{:.4f}) turning the axis from ({:.4f}, {:.4f}, {:.4f}) to ({:.4f}, {:.4f}, {:.4f}): it must turn on to "
+                          "{:.4f} deg, and the same orientation a turn away or on the other branch is not a move the tip can "
+                          "follow; a C that turns further (machine limits.c) or a continuous C would make it",
+                          machine.c_deg.min, machine.c_deg.max, p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, t0.x, t0.y, t0.z, t1.x, t1.y, t1.z,
+                          *past));
+        }
         return core::make_error(
             core::ErrorCode::kInfeasible,
             fmt::format("cannot keep the tip within {} mm of the segment ({:.4f}, {:.4f}, {:.4f})-({:.4f}, {:.4f}, {:.4f}) "

@@ -29,7 +29,9 @@ inline constexpr int kMaxSubdivisionDepth = 16;
 // at a quarter, half and three quarters of each piece) and no rotary axis turns more than
 // kMaxRotaryStepDeg. The last pose is the inverse kinematics of (P1, T1). START is not included.
 // Errors: those of inverse() for any intermediate point (kMachineLimit), kInfeasible when the tool
-// axis reverses (T1 = −T0) or the tolerance cannot be met within kMaxSubdivisionDepth, kUsage for
+// axis reverses (T1 = −T0) or the tolerance cannot be met within kMaxSubdivisionDepth, kMachineLimit
+// naming the end stops when that is because C would have to turn past them within the move (the
+// same orientation a turn away, or on the other branch, is a jump no piece can make), kUsage for
 // a non-positive chordal_mm. An axis path passing within kPoleSnapRad of the singular axis goes
 // through it (two moves meeting there, C turned in place between them). Cost: O(pieces)
 // inverse/forward evaluations.

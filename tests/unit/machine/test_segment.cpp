@@ -112,6 +112,38 @@ TEST(Subdivide, PureTranslationIsOneBlock) {
   EXPECT_EQ(check(m, {0.0, 0.0, 0.0}, tilted(20.0, 10.0), {50.0, 20.0, 5.0}, tilted(20.0, 10.0), 0.001), 1u);
 }
 
+TEST(Subdivide, AMoveTurningCPastItsEndStopIsAMachineLimitNamingIt) {
+  // C stops at ±360°. Starting at C ≈ 350°, the axis (30° over) turns 40° about Z one way or the
+  // other: one way C stays inside, the other it would have to pass 360°, where the same
+  // orientation a turn away (or on the other branch) is no move the tip can follow.
+  for (const Kinematics kind : {Kinematics::kTableTiltB_RotaryC, Kinematics::kHeadTiltB_RotaryC}) {
+    SCOPED_TRACE(static_cast<int>(kind));
+    MachineConfig m = machine(kind);
+    if (tilts_head(kind)) m.pivot = TrtPivot{}, m.pivot.pivot_length_mm = 150.0;
+    m.c_continuous = false;
+    m.c_deg = {-360.0, 360.0};
+    const Vec3 p0{0.0, 0.0, 0.0}, p1{2.0, 0.0, 0.0}, t0 = tilted(30.0, 0.0);
+    const MachinePose hint{0.0, 0.0, 0.0, 0.0, 350.0};
+    auto start = inverse(m, p0, t0, &hint);
+    ASSERT_TRUE(start.ok()) << start.error().message;
+    ASSERT_GT(start.value().c_deg, 300.0);
+    int refused = 0, made = 0;
+    for (const double turn : {40.0, -40.0}) {
+      auto r = subdivide(m, p0, t0, p1, tilted(30.0, turn), start.value(), 0.01);
+      if (r.ok()) {
+        ++made;
+        for (const MachinePose& p : r.value()) EXPECT_LE(p.c_deg, 360.0 + 1e-9);
+        continue;
+      }
+      ++refused;
+      EXPECT_EQ(r.error().code, core::ErrorCode::kMachineLimit) << r.error().message;
+      EXPECT_NE(r.error().message.find("end stops [-360, 360]"), std::string::npos) << r.error().message;
+    }
+    EXPECT_EQ(refused, 1);
+    EXPECT_EQ(made, 1);
+  }
+}
+
 TEST(Subdivide, ReversedAxisIsInfeasible) {
   const MachineConfig m = machine(Kinematics::kTableTiltA_RotaryC);
   const MachinePose start{};
