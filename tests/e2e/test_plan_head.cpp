@@ -114,6 +114,23 @@ TEST(PlanHeadHead, RegionsTurnOffVerticalOnlyAsFarAsTheProcessDeposits) {
     const auto s = nlohmann::json::parse(sim.out);
     EXPECT_LE(s["max_tip_deviation_mm"].get<double>(), 0.01);
     EXPECT_LE(s["max_axis_deviation_deg"].get<double>(), 0.01);
+    // `view` rewrites the page from plan.json; with the G-code and its machine the page plays it
+    // back, and G-code that does not belong to the machine named is refused naming its line.
+    const auto page = dir.path() / "view.html";
+    const auto plain = run_cli(fmt::format("view '{}' -o '{}'", (dir.path() / "plan.json").string(), page.string()));
+    ASSERT_EQ(plain.exit_code, 0) << plain.err;
+    EXPECT_EQ(slurp(page).find("\"playback\":"), std::string::npos);
+    const auto played = run_cli(fmt::format("view '{}' -o '{}' --gcode '{}' --machine '{}' --set process.off_vertical_max_deg=80",
+                                            (dir.path() / "plan.json").string(), page.string(), (dir.path() / "l_block.ngc").string(),
+                                            head_machine().string()));
+    ASSERT_EQ(played.exit_code, 0) << played.err;
+    EXPECT_NE(slurp(page).find("\"playback\":{\"kinematics\":\"xyzbc-head\""), std::string::npos);
+    const auto other = dir.path() / "other.html";
+    const auto refused = run_cli(fmt::format("view '{}' -o '{}' --gcode '{}'", (dir.path() / "plan.json").string(), other.string(),
+                                             (dir.path() / "l_block.ngc").string()));
+    EXPECT_EQ(refused.exit_code, 3) << refused.err;
+    EXPECT_NE(refused.err.find("B word"), std::string::npos) << refused.err;
+    EXPECT_FALSE(std::filesystem::exists(other));
   }
   {
     // 60 deg: the arm's direction is out of reach; the decomposition says which key would help.

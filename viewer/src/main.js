@@ -101,7 +101,7 @@ function start() {
     apply();
   }
 
-  const player = startPlayback(data, panel, part, view, setLayer, center, paths);
+  const player = startPlayback(data, panel, part, view, setLayer, center, paths, { regions: regions.group, contours: layers.group });
 
   setLayer(nLayers - 1);
   view.render();
@@ -124,7 +124,7 @@ const PLAYING_PIXEL_RATIO = 0.5;
 
 // Wires the playback controls (panel.playback) to the machine (playback.js); null without playback
 // data. The returned object is the test hook: seek(t), play(), pause(), stop() and frame times.
-function startPlayback(data, panel, part, view, setLayer, centre, paths) {
+function startPlayback(data, panel, part, view, setLayer, centre, paths, shells) {
   const pb = data.playback;
   const c = panel.playback;
   if (!pb || !c) return null;
@@ -183,6 +183,8 @@ function startPlayback(data, panel, part, view, setLayer, centre, paths) {
     playing = true;
     lastTs = null;
     paths.setLight(true);
+    // The regions' shells and the contours are hidden while playing: the deposit shows the part.
+    for (const o of Object.values(shells)) o.visible = false;
     // Half the pixels while playing: software WebGL pays for every blended pixel of every frame.
     view.renderer.setPixelRatio(PLAYING_PIXEL_RATIO * fullRatio);
     view.renderer.setSize(window.innerWidth, window.innerHeight, false);
@@ -192,6 +194,7 @@ function startPlayback(data, panel, part, view, setLayer, centre, paths) {
   function pause() {
     playing = false;
     paths.setLight(false, { travel: panel.checks.travel.checked, glyphs: panel.checks.glyphs.checked });
+    for (const [key, o] of Object.entries(shells)) o.visible = panel.checks[key].checked;
     view.renderer.setPixelRatio(fullRatio);
     view.renderer.setSize(window.innerWidth, window.innerHeight, false);
     c.play.textContent = '▶ play';

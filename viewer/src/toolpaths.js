@@ -11,7 +11,7 @@ export const MAX_CURRENT_GLYPHS = 4000; // glyphs of the current layer
 // While the machine plays back, the layers below the current one are drawn from every n-th layer
 // only, at most this many deposit segments in all: software WebGL draws a frame of a million
 // segments in about half a second, of this many in a few tens of milliseconds.
-export const MAX_PLAYING_SEGMENTS = 40000;
+export const MAX_PLAYING_SEGMENTS = 30000;
 const DEPOSIT_SHADE = 0.7; // deposit lines darker than their region's mesh, to stand out inside it
 const TILT_LIMIT_COS = Math.cos((1 * Math.PI) / 180); // tilted: more than 1 degree from the layer normal
 
