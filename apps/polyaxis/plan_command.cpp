@@ -1,5 +1,5 @@
 // polyaxis plan PART [--machine M] [--process P] [--set K=V] [--dir X,Y,Z] [-o DIR]: the main job.
-// Writes DIR/<part>.ngc, DIR/plan.json, DIR/report.json (schemas in docs/plan.md), DIR/report.html
+// Writes DIR/<part>.ngc (.mpf for a Siemens TRAORI machine), DIR/plan.json, DIR/report.json (schemas in docs/plan.md), DIR/report.html
 // (the 3-D viewer) and, with --svg, one SVG per layer.
 #include <fmt/format.h>
 
@@ -16,6 +16,7 @@
 #include "polyaxis/io/output_set.h"
 #include "polyaxis/io/write_file.h"
 #include "polyaxis/post/gcode.h"
+#include "polyaxis/post/traori.h"
 #include "polyaxis/planner/plan_part.h"
 #include "polyaxis/report/layers.h"
 #include "polyaxis/report/plan_files.h"
@@ -77,6 +78,7 @@ std::string set_id(std::string_view gcode, std::string_view report) {
 // line count stays, so the lines the report names are unchanged.
 std::string with_set_id(const std::string& gcode, const std::string& id) {
   const std::size_t eol = gcode.find('\n');
+  if (eol != std::string::npos && eol > 0 && gcode[0] == ';') return gcode.substr(0, eol) + ", set " + id + gcode.substr(eol);  // Sinumerik
   if (eol == std::string::npos || eol == 0 || gcode[eol - 1] != ')' || gcode[0] != '(') return "(polyaxis set " + id + ")\n" + gcode;
   return gcode.substr(0, eol - 1) + ", set " + id + gcode.substr(eol - 1);
 }
@@ -130,7 +132,7 @@ core::Status write_plan_set(const PlanCommandOptions& o, const planner::PlanPart
     }
   }
   // The machine program last: moved into place after everything it belongs with.
-  if (auto s = add(stem + ".ngc", gcode, io::Durability::kSynced); !s) return s;
+  if (auto s = add(stem + std::string(post::program_extension(machine)), gcode, io::Durability::kSynced); !s) return s;
   return set.value().commit();
 }
 
@@ -201,7 +203,7 @@ int run_plan(PlanCommandOptions& o) {
   for (const std::string& w : job.warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str()), ++warnings;
 
   const std::string stem = std::filesystem::path(o.part.path).stem().string();
-  report::PlanMeta meta{o.part.path, machine.name, process.name, stem + ".ngc", loaded.value().read_s, loaded.value().repair_s,
+  report::PlanMeta meta{o.part.path, machine.name, process.name, stem + std::string(post::program_extension(machine)), loaded.value().read_s, loaded.value().repair_s,
                         job.gcode_s, job.simulate_s, job.verify_s, "", "", ""};
   meta.strategy = planner::strategy_name(job.strategy_used);
   meta.choose_s = job.choose_s;
@@ -212,10 +214,10 @@ int run_plan(PlanCommandOptions& o) {
   if (o.json) {
     std::fputs(report_text.c_str(), stdout);
   } else {
-    std::printf("%zu layers, %.0f mm of deposit, build %.0f s, max tilt %.1f deg, %s (unsupported %s mm2) -> %s/%s.ngc\n",
+    std::printf("%zu layers, %.0f mm of deposit, build %.0f s, max tilt %.1f deg, %s (unsupported %s mm2) -> %s/%s%s\n",
                 plan.layers.layers.size(), plan.deposit_length_mm, job.simulation.feed_time_s, plan.max_tilt_deg,
                 plan.unsupported_area_mm2 == 0.0 ? "support-free" : "NOT support-free", planner::area_text(plan.unsupported_area_mm2).c_str(), o.out_dir.c_str(),
-                stem.c_str());
+                stem.c_str(), std::string(post::program_extension(machine)).c_str());
     if (o.html) std::printf("open %s/report.html in a browser to check the plan\n", o.out_dir.c_str());
   }
   return 0;

@@ -92,6 +92,14 @@ std::string_view kinematics_name(Kinematics kind) {
   return "?";
 }
 
+std::string_view post_dialect_name(PostDialect dialect) {
+  switch (dialect) {
+    case PostDialect::kLinuxCnc: return "linuxcnc";
+    case PostDialect::kSiemensTraori: return "siemens-traori";
+  }
+  return "?";
+}
+
 char tilt_axis_letter(Kinematics kind) {
   switch (kind) {
     case Kinematics::kTableTiltA_RotaryC:
@@ -130,7 +138,7 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
   const json& root = doc.value();
   core::detail::ConfigReader r(source);
   MachineConfig m;
-  if (!r.check_object(root, "", {"name", "kinematics", "limits", "pivot", "feed", "nozzle", "head_boxes", "table"})) return r.error();
+  if (!r.check_object(root, "", {"name", "kinematics", "limits", "pivot", "feed", "nozzle", "head_boxes", "table", "post"})) return r.error();
   m.name = r.string(root, "", "name", std::nullopt);
   const std::string kin = r.string(root, "", "kinematics", std::nullopt);
   if (r.failed()) return r.error();
@@ -269,6 +277,18 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
   if (!r.failed() && m.nozzle.cylinder_height_mm < 0.0) r.fail("'nozzle.cylinder_height_mm' must be >= 0");
   if (r.failed()) return r.error();
   read_head_boxes(r, root, m);
+  if (r.has(root, "post")) {
+    const std::string post = r.string(root, "", "post", std::nullopt);
+    if (post == "siemens-traori") {
+      m.post = PostDialect::kSiemensTraori;
+    } else if (post != "linuxcnc") {
+      r.fail(fmt::format("unknown 'post' '{}' (supported: linuxcnc, siemens-traori)", post));
+    }
+    if (!r.failed() && m.post == PostDialect::kSiemensTraori && !has_rotary_axes(m.kind)) {
+      r.fail("'post' siemens-traori needs a 5-axis machine: TRAORI orients the tool");
+    }
+    if (r.failed()) return r.error();
+  }
   if (r.has(root, "table")) {
     const json& t = root.at("table");
     if (!r.check_object(t, "table", {"radius_mm"})) return r.error();

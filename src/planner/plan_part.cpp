@@ -13,6 +13,7 @@
 #include "polyaxis/mesh/plane_cut.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/self_intersections.h"
+#include "polyaxis/post/traori.h"
 #include "reach.h"
 
 namespace polyaxis::planner {
@@ -458,7 +459,7 @@ core::Status program_of(const machine::MachineConfig& machine, const process::Pr
   auto t0 = Clock::now();
   post::GcodeOptions gcode_options = options.gcode;
   gcode_options.stats = &out.gcode_stats;
-  auto gcode = post::write_gcode(machine, process, plan.program, gcode_options);
+  auto gcode = post::write_program(machine, process, plan.program, gcode_options);
   if (!gcode) return gcode.error();
   out.gcode = std::move(gcode.value());
   out.gcode_s = since(t0);

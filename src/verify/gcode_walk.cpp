@@ -27,11 +27,28 @@ struct Word {
 };
 
 // The words of one line, comments removed; nullopt and WHY on malformed text.
-std::optional<std::vector<Word>> tokenize(std::string_view line, std::string& why) {
+// Sinumerik: the tool vector's words A3= B3= C3=, read as the letters 'a', 'b', 'c'.
+std::optional<std::vector<Word>> tokenize(std::string_view line, std::string& why, bool sinumerik = false) {
   std::vector<Word> words;
   std::size_t i = 0;
   while (i < line.size()) {
     const char ch = line[i];
+    if (sinumerik && (ch == 'A' || ch == 'B' || ch == 'C') && line.substr(i + 1, 2) == "3=") {
+      const std::size_t start = i;
+      i += 3;
+      const std::size_t num = i;
+      if (i < line.size() && (line[i] == '+' || line[i] == '-')) ++i;
+      while (i < line.size() && (std::isdigit(static_cast<unsigned char>(line[i])) || line[i] == '.')) ++i;
+      double v = 0.0;
+      const char* first = line.data() + num + (num < line.size() && line[num] == '+' ? 1 : 0);
+      const auto [ptr, ec] = std::from_chars(first, line.data() + i, v);
+      if (i == num || ec != std::errc() || ptr != line.data() + i || !std::isfinite(v)) {
+        why = fmt::format("'{}' is not a tool vector component", line.substr(start, std::max<std::size_t>(i - start, 1)));
+        return std::nullopt;
+      }
+      words.push_back({static_cast<char>(ch - 'A' + 'a'), v, line.substr(start, i - start)});
+      continue;
+    }
     if (ch == ' ' || ch == '\t' || ch == '\r') {
       ++i;
     } else if (ch == ';') {
@@ -86,9 +103,14 @@ std::string block_text(const std::vector<Word>& words) {
 bool layer_comment(std::string_view line, std::int64_t& layer, std::int64_t& region) {
   std::size_t i = 0;
   while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-  constexpr std::string_view kHead = "(layer ";
-  if (line.substr(i, kHead.size()) != kHead) return false;
-  i += kHead.size();
+  constexpr std::string_view kHead = "(layer ", kSinumerikHead = "; layer ";
+  if (line.substr(i, kHead.size()) == kHead) {
+    i += kHead.size();
+  } else if (line.substr(i, kSinumerikHead.size()) == kSinumerikHead) {
+    i += kSinumerikHead.size();
+  } else {
+    return false;
+  }
   auto number = [&](std::int64_t& out) {
     const auto [ptr, ec] = std::from_chars(line.data() + i, line.data() + line.size(), out);
     if (ec != std::errc()) return false;
@@ -119,6 +141,10 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
   bool inverse_time = false;
   double feed = 0.0;
   bool process_on = false;
+  // Sinumerik TRAORI: the tip and the tool vector (modal), and whether TRAORI is on.
+  const bool sinumerik = m.post == machine::PostDialect::kSiemensTraori;
+  bool traori = false;
+  Vec3 tip{}, vec{0.0, 0.0, 1.0};
 
   std::uint64_t line_no = 0;
   std::size_t at = 0;
@@ -131,7 +157,18 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
       return make_error(ErrorCode::kInvalidInput, fmt::format("G-code line {}: {}: {}", line_no, why, line));
     };
     std::string why;
-    const auto words = tokenize(line, why);
+    if (sinumerik) {
+      // TRAORI's control words stand alone on their lines.
+      std::string_view word = line.substr(0, line.find(';'));
+      while (!word.empty() && (word.back() == ' ' || word.back() == '\t' || word.back() == '\r')) word.remove_suffix(1);
+      while (!word.empty() && (word.front() == ' ' || word.front() == '\t')) word.remove_prefix(1);
+      if (word == "TRAORI" || word == "TRAFOOF") {
+        traori = word == "TRAORI";
+        continue;
+      }
+      if (word == "ORIWKS" || word == "ORIVECT") continue;
+    }
+    const auto words = tokenize(line, why, sinumerik);
     if (!words) return bad(why);
     if (words->empty()) {
       layer_comment(line, layer, region);
@@ -147,6 +184,8 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
     bool dwell = false;
     std::array<std::optional<double>, 6> axis{};  // X Y Z A B C
     std::optional<double> f_word;
+    bool vector_word = false;
+    std::array<std::optional<double>, 3> vector_words{};  // A3= B3= C3=
     for (const Word& w : *words) {
       switch (w.letter) {
         case 'G': {
@@ -161,7 +200,7 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
             inverse_time = true;
           } else if (g == 94.0) {
             inverse_time = false;
-          } else if (g == 17.0 || g == 21.0 || g == 90.0) {
+          } else if (g == 17.0 || g == 21.0 || g == 90.0 || (sinumerik && g == 71.0)) {
             // the only plane, unit and distance modes the writer uses
           } else {
             return bad(fmt::format("G{} is not supported (the simulator reads G0 G1 G4 G17 G21 G90 G93 G94)", w.text.substr(1)));
@@ -174,9 +213,17 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
         case 'X': axis[0] = w.value; break;
         case 'Y': axis[1] = w.value; break;
         case 'Z': axis[2] = w.value; break;
+        case 'a':
+        case 'b':
+        case 'c':
+          if (!traori) return bad("a tool vector word (A3= B3= C3=) without TRAORI");
+          vector_words[static_cast<std::size_t>(w.letter - 'a')] = w.value;
+          vector_word = true;
+          break;
         case 'A':
         case 'B':
         case 'C': {
+          if (sinumerik) return bad(fmt::format("{} word: under TRAORI the program gives the tool vector (A3= B3= C3=), not the axes", w.letter));
           if (!five || (w.letter != 'C' && w.letter != tilt)) {
             return bad(fmt::format("{} word, but machine '{}' ({}) has no {} axis", w.letter, m.name,
                                    machine::kinematics_name(m.kind), w.letter));
@@ -194,19 +241,61 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
         default: return bad(fmt::format("unsupported word '{}'", w.letter));
       }
     }
-    if (f_word) feed = *f_word;
+    // A Sinumerik dwell gives its seconds as F (the modal feed is kept).
+    if (f_word && !(sinumerik && dwell)) feed = *f_word;
     if (block_motion) motion_mode = *block_motion;
-    const bool has_axis = std::any_of(axis.begin(), axis.end(), [](const auto& v) { return v.has_value(); });
+    const bool has_axis = vector_word || std::any_of(axis.begin(), axis.end(), [](const auto& v) { return v.has_value(); });
     if (dwell) {
       double seconds = 0.0;
       for (const Word& w : *words) {
-        if (w.letter == 'P') seconds = w.value;
+        if (w.letter == (sinumerik ? 'F' : 'P')) seconds = w.value;
       }
       if (cb.dwell) cb.dwell(line_no, seconds, process_on);
       continue;
     }
     if (!has_axis) continue;
     if (motion_mode < 0) return bad("axis words without G0 or G1 in effect");
+
+    if (sinumerik) {
+      if (!traori) return bad("motion without TRAORI: the program gives the tip and the tool vector");
+      const Vec3 tip_from = tip, vec_from = vec;
+      if (axis[0]) tip.x = *axis[0];
+      if (axis[1]) tip.y = *axis[1];
+      if (axis[2]) tip.z = *axis[2];
+      if (vector_words[0]) vec.x = *vector_words[0];
+      if (vector_words[1]) vec.y = *vector_words[1];
+      if (vector_words[2]) vec.z = *vector_words[2];
+      if (!(core::norm(vec) > 0.0)) return bad("a zero tool vector");
+      auto target = machine::inverse(m, tip, vec, have_position ? &pos : nullptr);
+      if (!target) return make_error(target.error().code, fmt::format("G-code line {}: {}: {}", line_no, target.error().message, line));
+      const bool rapid = motion_mode == 0;
+      if (!rapid && !(feed > 0.0)) return bad("feed move without a feed rate (F)");
+      if (cb.target) cb.target(line_no, target.value(), line);
+      WalkMove mv;
+      mv.line = line_no, mv.from = pos, mv.to = target.value(), mv.rapid = rapid, mv.f_word = f_word, mv.feed = feed;
+      mv.process_on = process_on, mv.layer = layer, mv.region = region;
+      mv.tool_space = true;
+      mv.tip_from = tip_from, mv.tip_to = tip, mv.axis_from = core::normalized(vec_from), mv.axis_to = core::normalized(vec);
+      if (!have_position) {
+        mv.from_known = false;
+        if (cb.move) cb.move(mv);
+        pos = target.value();
+        have_position = true;
+        continue;
+      }
+      const double tip_mm = core::norm(tip - tip_from);
+      const double turn_deg = std::atan2(core::norm(core::cross(mv.axis_from, mv.axis_to)), core::dot(mv.axis_from, mv.axis_to)) * 180.0 / M_PI;
+      if (tip_mm == 0.0 && turn_deg == 0.0) continue;
+      const MachinePose& to = target.value();
+      mv.l_xyz_mm = norm(Vec3{to.x_mm - pos.x_mm, to.y_mm - pos.y_mm, to.z_mm - pos.z_mm});
+      mv.d_tilt_deg = std::abs(to.a_or_b_deg - pos.a_or_b_deg);
+      mv.d_c_deg = std::abs(to.c_deg - pos.c_deg);
+      // F is the tip's path feed; a block turning the tool alone moves at its angle per minute.
+      if (!rapid) mv.time_min = tip_mm > 0.0 ? tip_mm / feed : turn_deg / feed;
+      if (cb.move) cb.move(mv);
+      pos = to;
+      continue;
+    }
 
     MachinePose target = pos;
     if (axis[0]) target.x_mm = *axis[0];
@@ -253,6 +342,25 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
   }
   if (program_end_out != nullptr) *program_end_out = program_end;
   return {};
+}
+
+machine::MachineToolPose tool_at(const machine::MachineConfig& machine, const WalkMove& mv, double u) {
+  if (!mv.tool_space) {
+    const MachinePose p{mv.from.x_mm + (mv.to.x_mm - mv.from.x_mm) * u, mv.from.y_mm + (mv.to.y_mm - mv.from.y_mm) * u,
+                        mv.from.z_mm + (mv.to.z_mm - mv.from.z_mm) * u, mv.from.a_or_b_deg + (mv.to.a_or_b_deg - mv.from.a_or_b_deg) * u,
+                        mv.from.c_deg + (mv.to.c_deg - mv.from.c_deg) * u};
+    return machine::forward(machine, p);
+  }
+  // The great circle from AXIS_FROM to AXIS_TO (ORIVECT), the tip straight.
+  const Vec3 a = mv.axis_from, b = mv.axis_to;
+  const double w = std::atan2(core::norm(core::cross(a, b)), core::dot(a, b));
+  Vec3 axis = b;
+  if (w < 1e-12) {
+    axis = a;
+  } else if (std::sin(w) > 1e-12) {
+    axis = core::normalized(a * (std::sin((1.0 - u) * w) / std::sin(w)) + b * (std::sin(u * w) / std::sin(w)));
+  }
+  return {mv.tip_from + (mv.tip_to - mv.tip_from) * u, axis};
 }
 
 }  // namespace polyaxis::verify::detail

@@ -1,6 +1,7 @@
-// Reading the G-code dialect write_gcode writes, block by block, for the simulator and the build
-// verifier: modal state (G0/G1, G93/G94, F), axis words as joint positions, the process switched
-// by the process file's codes, dwells, and the "(layer N region R ...)" comments.
+// Reading the G-code dialect the machine file's post writes, block by block, for the simulator and
+// the build verifier: modal state (G0/G1, G93/G94, F), axis words as joint positions (LinuxCNC) or
+// the tip and the tool vector A3 B3 C3 under TRAORI (Sinumerik), the process switched by the
+// process file's codes, dwells, and the "(layer N region R ...)" or "; layer N region R ..." comments.
 #pragma once
 
 #include <cstdint>
@@ -17,6 +18,11 @@ namespace polyaxis::verify::detail {
 struct WalkMove {
   std::uint64_t line = 0;
   machine::MachinePose from, to;
+  // A Sinumerik TRAORI block: the controller moves the tip straight from TIP_FROM to TIP_TO and
+  // turns the tool vector along the great circle from AXIS_FROM to AXIS_TO (unit); FROM and TO are
+  // the joints polyaxis's inverse kinematics gives at its ends (for limits, speeds and playback).
+  bool tool_space = false;
+  core::Vec3 tip_from, tip_to, axis_from, axis_to;
   bool from_known = true;   // false for the first motion block: the machine was anywhere
   bool rapid = false;
   double time_min = 0.0;    // as LinuxCNC reads F (G1 only; 0 for rapids and the first move)
@@ -27,6 +33,10 @@ struct WalkMove {
   bool process_on = false;
   std::int64_t layer = -1, region = -1;  // from the last "(layer N region R" comment, -1 before one
 };
+
+// The tool at fraction U of MV: joint-linear (forward kinematics of the interpolated joints), or
+// tip-linear with the axis on the great circle for a tool-space move.
+machine::MachineToolPose tool_at(const machine::MachineConfig& machine, const WalkMove& mv, double u);
 
 struct WalkCallbacks {
   std::function<void(const WalkMove&)> move;                       // every block that moves an axis

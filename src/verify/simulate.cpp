@@ -107,10 +107,6 @@ void widen(AxisSpan& s, double v) {
   s.max = std::max(s.max, v);
 }
 
-MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
-  return {a.x_mm + (b.x_mm - a.x_mm) * u, a.y_mm + (b.y_mm - a.y_mm) * u, a.z_mm + (b.z_mm - a.z_mm) * u,
-          a.a_or_b_deg + (b.a_or_b_deg - a.a_or_b_deg) * u, a.c_deg + (b.c_deg - a.c_deg) * u};
-}
 
 }  // namespace
 
@@ -126,9 +122,8 @@ core::Result<SimulationReport> simulate(const machine::MachineConfig& m, std::st
     ++rep.limit_violations;
     if (rep.violations.size() < kMaxReportedViolations) rep.violations.push_back(fmt::format("line {}: {}", line_no, what));
   };
-  auto sample = [&](std::uint64_t line_no, const MachinePose& p) {
+  auto sample = [&](std::uint64_t line_no, const machine::MachineToolPose& tp) {
     if (!rep.compared_with_plan) return;
-    const machine::MachineToolPose tp = machine::forward(m, p);
     const auto [d_tip, d_axis] = matcher.deviation(tp.tip_part_mm, tp.tool_axis_part);
     if (d_tip > rep.max_tip_deviation_mm) {
       rep.max_tip_deviation_mm = d_tip;
@@ -153,11 +148,9 @@ core::Result<SimulationReport> simulate(const machine::MachineConfig& m, std::st
     ++rep.moves;
     if (mv.rapid) ++rep.rapid_moves;
     if (!mv.from_known) {
-      sample(mv.line, mv.to);
+      sample(mv.line, detail::tool_at(m, mv, 1.0));
       return;
     }
-    const MachinePose& pos = mv.from;
-    const MachinePose& target = mv.to;
     const double d_tilt = mv.d_tilt_deg, d_c = mv.d_c_deg, l_xyz = mv.l_xyz_mm;
     if (!mv.rapid) {
       const double t_min = mv.time_min;
@@ -173,17 +166,16 @@ core::Result<SimulationReport> simulate(const machine::MachineConfig& m, std::st
       }
     }
     const int pieces = 1 + static_cast<int>(std::ceil(std::max(d_tilt, d_c) / kLengthStepDeg));
-    Vec3 last_tip = machine::forward(m, pos).tip_part_mm;
+    Vec3 last_tip = detail::tool_at(m, mv, 0.0).tip_part_mm;
     double length = 0.0;
     for (int k = 1; k <= pieces; ++k) {
-      const Vec3 tip = machine::forward(m, lerp(pos, target, static_cast<double>(k) / pieces)).tip_part_mm;
+      const Vec3 tip = detail::tool_at(m, mv, static_cast<double>(k) / pieces).tip_part_mm;
       length += norm(tip - last_tip);
       last_tip = tip;
     }
     rep.path_length_mm += length;
     if (mv.process_on) rep.deposit_length_mm += length;
-    for (const double u : {0.25, 0.5, 0.75}) sample(mv.line, lerp(pos, target, u));
-    sample(mv.line, target);
+    for (const double u : {0.25, 0.5, 0.75, 1.0}) sample(mv.line, detail::tool_at(m, mv, u));
   };
   if (auto st = detail::walk_gcode(m, gcode, process, cb, &rep.program_end); !st) return st.error();
   return rep;

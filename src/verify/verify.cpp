@@ -36,10 +36,6 @@ constexpr double kMaterialBeads = 0.5;
 // A check that comes within its margin only is done again this many times finer along the motion.
 constexpr int kRefinePieces = 16;
 
-MachinePose lerp(const MachinePose& a, const MachinePose& b, double u) {
-  return {a.x_mm + (b.x_mm - a.x_mm) * u, a.y_mm + (b.y_mm - a.y_mm) * u, a.z_mm + (b.z_mm - a.z_mm) * u,
-          a.a_or_b_deg + (b.a_or_b_deg - a.a_or_b_deg) * u, a.c_deg + (b.c_deg - a.c_deg) * u};
-}
 
 // Earlier deposit, bucketed in cubes of the grounding distance.
 class DepositGrid {
@@ -325,7 +321,7 @@ void sample_moves(const machine::MachineConfig& m, const machine::BuildModel& mo
   tbb::parallel_for(std::size_t{0}, block.size(), [&](std::size_t i) {
     const detail::WalkMove& mv = block[i];
     if (!mv.from_known) return;
-    const Vec3 a = machine::forward(m, mv.from).tip_part_mm, b = machine::forward(m, mv.to).tip_part_mm;
+    const Vec3 a = detail::tool_at(m, mv, 0.0).tip_part_mm, b = detail::tool_at(m, mv, 1.0).tip_part_mm;
     const double rot = std::max(mv.d_tilt_deg, mv.d_c_deg);
     pieces[i] = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(b - a) / spacing, rot / kSampleDeg))));
   });
@@ -338,19 +334,19 @@ void sample_moves(const machine::MachineConfig& m, const machine::BuildModel& mo
       out[k] = {tp, std::min(machine::head_clearance_mm(model, tp.tip_part_mm, tp.tool_axis_part), machine::tip_clearance_mm(model, tp.tip_part_mm))};
     };
     if (!mv.from_known) {
-      put(first[i], machine::forward(m, mv.to));
+      put(first[i], detail::tool_at(m, mv, 1.0));
       return;
     }
     // With the rotary axes still, forward kinematics is affine in the linear axes: the tip moves
-    // straight from A to B with one tool axis.
+    // straight from A to B with one tool axis (a TRAORI block's tip moves straight anyway).
     const bool still = mv.d_tilt_deg == 0.0 && mv.d_c_deg == 0.0;
-    const machine::MachineToolPose end = machine::forward(m, mv.to);
-    const Vec3 a = machine::forward(m, mv.from).tip_part_mm, b = end.tip_part_mm;
+    const machine::MachineToolPose end = detail::tool_at(m, mv, 1.0);
+    const Vec3 a = detail::tool_at(m, mv, 0.0).tip_part_mm, b = end.tip_part_mm;
     out[first[i]].pose = {a, end.tool_axis_part};  // the start: only its tip is read (the move's length)
     const int n = pieces[i];
     for (int k = 1; k <= n; ++k) {
       const double u = static_cast<double>(k) / n;
-      put(first[i] + static_cast<std::size_t>(k), still ? machine::MachineToolPose{a + (b - a) * u, end.tool_axis_part} : machine::forward(m, lerp(mv.from, mv.to, u)));
+      put(first[i] + static_cast<std::size_t>(k), still ? machine::MachineToolPose{a + (b - a) * u, end.tool_axis_part} : detail::tool_at(m, mv, u));
     }
   });
 }

@@ -178,7 +178,8 @@ inline ReadBack check_readback(const std::filesystem::path& dir, const std::stri
     ground = surface_points(*prebuilt, 0.5 * reach);
     solid = surface_points(*prebuilt, 2.0 * p.bead_width_mm);
   }
-  const ReadBack rb = read_back(machine.value(), p, plate, slurp(dir / (name + ".ngc")), reach, spacing, false, ground, solid);
+  const std::string program = name + (machine.value().post == machine::PostDialect::kSiemensTraori ? ".mpf" : ".ngc");
+  const ReadBack rb = read_back(machine.value(), p, plate, slurp(dir / program), reach, spacing, false, ground, solid);
   if (!allow_collisions) {
     EXPECT_EQ(rb.head_in_prebuilt, 0u) << name << ": " << rb.first_problem;
   }

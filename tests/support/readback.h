@@ -107,9 +107,15 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
   int layer = -1, region = -1;
   double feed = 0.0;
   std::vector<int> started;
-  const std::regex comment(R"(^\(layer (\d+) region (\d+))");
+  const std::regex comment(R"(^(?:\(|; )layer (\d+) region (\d+))");
   std::smatch mt;
   const std::string letters = "XYZABC";
+  // Sinumerik TRAORI (machine "post" siemens-traori): X Y Z are the tip and A3= B3= C3= the tool
+  // vector, both in the part frame: no kinematics between them and the head. Between blocks the tip
+  // moves straight and the vector turns along the great circle (here its normalised chord, within
+  // a few micrometres at the head's sample spacing).
+  const bool traori = m.post == machine::PostDialect::kSiemensTraori;
+  std::array<double, 3> vec{0.0, 0.0, 1.0}, prev_vec = vec;
   while (std::getline(in, line)) {
     if (std::regex_search(line, mt, comment)) {
       const int l = std::stoi(mt[1]);
@@ -125,9 +131,16 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
     if (line.rfind("G0 ", 0) != 0 && line.rfind("G1 ", 0) != 0) continue;
     const bool rapid = line[1] == '0';
     prev = pos;
-    for (std::size_t i = 0; i < 6; ++i) {
+    prev_vec = vec;
+    for (std::size_t i = 0; i < (traori ? 3u : 6u); ++i) {
       const auto at = line.find(letters[i]);
       if (at != std::string::npos) pos[i] = std::stod(line.substr(at + 1));
+    }
+    if (traori) {
+      for (std::size_t i = 0; i < 3; ++i) {
+        const auto at = line.find(std::string(1, "ABC"[i]) + "3=");
+        if (at != std::string::npos) vec[i] = std::stod(line.substr(at + 3));
+      }
     }
     if (const auto f = line.find('F'); f != std::string::npos) feed = std::stod(line.substr(f + 1));
     const char tilt = machine::tilt_axis_letter(m.kind);
@@ -135,14 +148,23 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
       auto lerp = [&](std::size_t i) { return a[i] + (b[i] - a[i]) * u; };
       return machine::MachinePose{lerp(0), lerp(1), lerp(2), tilt == 'B' ? lerp(4) : lerp(3), lerp(5)};
     };
-    const core::Vec3 from = machine::forward(m, pose(prev, pos, 0.0)).tip_part_mm;
-    const core::Vec3 to = machine::forward(m, pose(prev, pos, 1.0)).tip_part_mm;
-    const double rot = std::max({std::abs(pos[3] - prev[3]), std::abs(pos[4] - prev[4]), std::abs(pos[5] - prev[5])});
+    auto tool = [&](double u) {
+      if (!traori) return machine::forward(m, pose(prev, pos, u));
+      const core::Vec3 a{prev_vec[0], prev_vec[1], prev_vec[2]}, b{vec[0], vec[1], vec[2]};
+      const core::Vec3 t{prev[0] + (pos[0] - prev[0]) * u, prev[1] + (pos[1] - prev[1]) * u, prev[2] + (pos[2] - prev[2]) * u};
+      return machine::MachineToolPose{t, core::normalized(a * (1.0 - u) + b * u)};
+    };
+    const core::Vec3 from = tool(0.0).tip_part_mm;
+    const core::Vec3 to = tool(1.0).tip_part_mm;
+    const double turn_deg = std::acos(std::clamp(core::dot(core::normalized(core::Vec3{prev_vec[0], prev_vec[1], prev_vec[2]}),
+                                                           core::normalized(core::Vec3{vec[0], vec[1], vec[2]})),
+                                                 -1.0, 1.0)) * 180.0 / kPi;
+    const double rot = traori ? turn_deg : std::max({std::abs(pos[3] - prev[3]), std::abs(pos[4] - prev[4]), std::abs(pos[5] - prev[5])});
     const int n = have ? std::max(1, static_cast<int>(std::ceil(std::max(core::norm(to - from) / spacing_mm, rot)))) : 1;
     double length = 0.0;
     core::Vec3 last = from;
     for (int k = have ? 1 : n; k <= n; ++k) {
-      const machine::MachineToolPose tp = machine::forward(m, pose(prev, pos, static_cast<double>(k) / n));
+      const machine::MachineToolPose tp = tool(static_cast<double>(k) / n);
       const core::Vec3 t = tp.tip_part_mm, a = core::normalized(tp.tool_axis_part);
       length += core::norm(t - last);
       last = t;
@@ -198,8 +220,8 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
       layer_pts.push_back(t);
     }
     if (have && on && !rapid && feed > 0.0) {
-      const double xyz = std::hypot(pos[0] - prev[0], pos[1] - prev[1], pos[2] - prev[2]);
-      const double rot_len = std::hypot(pos[3] - prev[3], pos[4] - prev[4], pos[5] - prev[5]);
+      const double xyz = std::hypot(pos[0] - prev[0], pos[1] - prev[1], pos[2] - prev[2]);  // the tip's under TRAORI
+      const double rot_len = traori ? turn_deg : std::hypot(pos[3] - prev[3], pos[4] - prev[4], pos[5] - prev[5]);
       const double minutes = xyz > 0.0 ? xyz / feed : rot_len / feed;
       const double seconds = minutes * 60.0;
       rb.on_s += seconds;

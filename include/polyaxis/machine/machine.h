@@ -36,6 +36,15 @@ inline bool tilts_head(Kinematics kind) { return kind == Kinematics::kHeadTiltA_
 // The table tilts and turns the part under a vertical tool.
 inline bool turns_table(Kinematics kind) { return kind == Kinematics::kTableTiltA_RotaryC || kind == Kinematics::kTableTiltB_RotaryC; }
 
+// The program's dialect ("post" in the machine file): the writer behind post::write_program and
+// the reader of simulate and verify.
+enum class PostDialect {
+  kLinuxCnc,       // "linuxcnc": ISO G-code, joint values for identity kinematics (post/gcode.h)
+  kSiemensTraori,  // "siemens-traori": Sinumerik TRAORI, the tip and the tool vector A3 B3 C3 in the
+                   // workpiece frame, the controller's kinematics (post/traori.h)
+};
+std::string_view post_dialect_name(PostDialect dialect);
+
 struct AxisRange {
   double min = 0.0;  // mm for X Y Z, degrees for A B C
   double max = 0.0;
@@ -100,6 +109,7 @@ struct MachineConfig {
   NozzleModel nozzle;
   std::vector<HeadBox> head_boxes;  // optional, "head_boxes" in the file
   TableModel table;
+  PostDialect post = PostDialect::kLinuxCnc;  // "post", optional
 };
 
 // True when the program should unwind C: a 5-axis machine whose C has end stops, or whose

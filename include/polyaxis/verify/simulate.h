@@ -46,7 +46,10 @@ struct SimulationReport {
 
 // Simulates GCODE (the dialect write_gcode writes: G0 G1 G4 G17 G21 G90 G93 G94, X Y Z A B C F P S
 // N words, M-codes, comments in parentheses and after ';') on MACHINE. Axis words are joint
-// positions; words absent from the first motion block are 0. With PROCESS, blocks equal to its
+// positions; words absent from the first motion block are 0. On a machine whose post is
+// siemens-traori the program is write_traori's instead (post/traori.h): X Y Z the tip and A3 B3 C3
+// the tool vector under TRAORI, moved tip-straight with the vector on a great circle, F the tip's
+// path feed, G4 F a dwell; the joints for the limits come from polyaxis's inverse kinematics. With PROCESS, blocks equal to its
 // process_on / process_off switch the process (for deposit_length_mm). PLAN, when not empty, is
 // the program the G-code was written from; each sample is compared with the planned segments in
 // order: the earliest segment at or after the last match (a window of 64 segments ahead) that
