@@ -20,6 +20,10 @@ using core::make_error;
 using core::Vec3;
 using machine::MachinePose;
 
+// A word beyond this (mm, degrees, mm/min, seconds) is no position, feed or dwell of a machine:
+// refused, so that no move asks the readers for billions of samples.
+constexpr double kMaxWordMagnitude = 1e6;
+
 struct Word {
   char letter;
   double value;
@@ -42,7 +46,7 @@ std::optional<std::vector<Word>> tokenize(std::string_view line, std::string& wh
       double v = 0.0;
       const char* first = line.data() + num + (num < line.size() && line[num] == '+' ? 1 : 0);
       const auto [ptr, ec] = std::from_chars(first, line.data() + i, v);
-      if (i == num || ec != std::errc() || ptr != line.data() + i || !std::isfinite(v)) {
+      if (i == num || ec != std::errc() || ptr != line.data() + i || !std::isfinite(v) || std::abs(v) > kMaxWordMagnitude) {
         why = fmt::format("'{}' is not a tool vector component", line.substr(start, std::max<std::size_t>(i - start, 1)));
         return std::nullopt;
       }
@@ -75,6 +79,10 @@ std::optional<std::vector<Word>> tokenize(std::string_view line, std::string& wh
       const auto [ptr, ec] = std::from_chars(first, line.data() + i, v);
       if (digits == 0 || ec != std::errc() || ptr != line.data() + i || !std::isfinite(v)) {
         why = fmt::format("'{}' is not a letter followed by a number", line.substr(start, std::max<std::size_t>(i - start, 1)));
+        return std::nullopt;
+      }
+      if (std::abs(v) > kMaxWordMagnitude) {
+        why = fmt::format("'{}' is beyond ±{:g}: no position or feed of a machine", line.substr(start, i - start), kMaxWordMagnitude);
         return std::nullopt;
       }
       words.push_back({static_cast<char>(std::toupper(static_cast<unsigned char>(ch))), v, line.substr(start, i - start)});

@@ -452,7 +452,7 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
     head_samples.push_back(q);
     if (!mv.process_on) return;
     // Material samples at most kMaterialBeads apart along a bead (the first and last of each move kept).
-    const bool bead_start = material.empty() || !head_samples.back().gap_mm || !mv.from_known || mv.line != last_material_line;
+    const bool bead_start = material.empty() || head_samples.back().gap_mm == 0.0f || !mv.from_known || mv.line != last_material_line;
     since_material_mm += q.gap_mm;
     if (bead_start || last_of_move || since_material_mm >= kMaterialBeads * process.bead_width_mm) {
       material.push_back({q.tip, static_cast<std::uint32_t>(material.size()), static_cast<std::int32_t>(mv.layer), static_cast<std::int32_t>(mv.region)});

@@ -1,0 +1,65 @@
+// libFuzzer target: the G-code reader (`polyaxis simulate GCODE`, `polyaxis view --gcode`) on
+// arbitrary bytes, in each dialect the posts write: the first byte picks the machine (LinuxCNC
+// joint values on a table-table, a head-head or a 3-axis machine, or Sinumerik TRAORI tool
+// vectors). A program is read or refused with kInvalidInput naming the line, or kMachineLimit for
+// a tool vector no axis pose reaches; never a signal. The playback frames of a program read have
+// finite poses and a clock that never runs backwards.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "fuzz_require.h"
+#include "polyaxis/machine/machine.h"
+#include "polyaxis/process/process.h"
+#include "polyaxis/verify/playback.h"
+#include "polyaxis/verify/simulate.h"
+
+using polyaxis::fuzz::require;
+
+namespace {
+
+polyaxis::machine::MachineConfig machine_for(std::uint8_t pick) {
+  using namespace polyaxis::machine;
+  MachineConfig m = parse_machine(default_machine_json(), "default").value();
+  switch (pick % 4) {
+    case 1: m.post = PostDialect::kSiemensTraori; break;
+    case 2:
+      m.kind = Kinematics::kHeadTiltB_RotaryC;
+      m.pivot = TrtPivot{};
+      m.pivot.pivot_length_mm = 150.0;
+      m.c_continuous = false;
+      m.c_deg = {-360.0, 360.0};
+      break;
+    case 3: m.kind = Kinematics::k3Axis; break;
+    default: break;
+  }
+  return m;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace polyaxis;
+  if (size == 0) return 0;
+  const machine::MachineConfig m = machine_for(data[0]);
+  const process::ProcessConfig p = process::parse_process(process::default_process_json(), "default").value();
+  const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
+  auto sim = verify::simulate(m, text, {}, &p);
+  if (!sim) {
+    require(sim.error().code == core::ErrorCode::kInvalidInput || sim.error().code == core::ErrorCode::kMachineLimit);
+  } else {
+    require(std::isfinite(sim.value().path_length_mm) && sim.value().path_length_mm >= 0.0);
+  }
+  auto frames = verify::playback_frames(m, p, text);
+  require(frames.ok() == sim.ok());
+  if (!frames) return 0;
+  double last = 0.0;
+  for (const auto& f : frames.value()) {
+    require(std::isfinite(f.pose.x_mm) && std::isfinite(f.pose.y_mm) && std::isfinite(f.pose.z_mm) && std::isfinite(f.pose.a_or_b_deg) &&
+            std::isfinite(f.pose.c_deg));
+    require(std::isfinite(f.time_s) && f.time_s >= last);
+    last = f.time_s;
+  }
+  return 0;
+}
