@@ -56,37 +56,35 @@ std::string rings_fields(const std::vector<std::vector<Vec3>>& rings, const char
   return fmt::format("\"{}\":\"{}\",\"{}\":[{}]", name, base64(points), starts_name, fmt::join(starts, ","));
 }
 
-// The program points kept for the page: all of them up to MAX_POINTS; beyond, every k-th point of
-// each run of deposit or travel moves, with the run's last point and every layer's first and last.
-std::vector<std::size_t> kept_points(const std::vector<post::ProgramPoint>& program, std::size_t max_points) {
+// Indices of N items kept for the page: all up to MAX (0: no cap); beyond, every k-th and every
+// item MUST_KEEP(i) names.
+template <typename MustKeep>
+std::vector<std::size_t> kept_indices(std::size_t n, std::size_t max, MustKeep must_keep) {
   std::vector<std::size_t> kept;
-  const std::size_t n = program.size();
-  const std::size_t stride = max_points == 0 || n <= max_points ? 1 : (n + max_points - 1) / max_points;
+  const std::size_t stride = max == 0 || n <= max ? 1 : (n + max - 1) / max;
   std::size_t since = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const bool run_end = i + 1 == n || program[i + 1].process_on != program[i].process_on || program[i + 1].layer != program[i].layer;
-    const bool run_start = i == 0 || program[i - 1].process_on != program[i].process_on || program[i - 1].layer != program[i].layer;
-    if (stride == 1 || run_start || run_end || ++since >= stride) {
-      kept.push_back(i);
-      since = 0;
-    }
+    if (stride == 1 || must_keep(i) || ++since >= stride) kept.push_back(i), since = 0;
   }
   return kept;
 }
 
-// The playback's frames kept for the viewer: all when there are at most MAX_FRAMES, else every
-// k-th and every frame where the process, the layer or the motion mode changes, and the last.
+// The program points kept: every k-th point of each run of deposit or travel moves, with the
+// run's first and last point (every layer's first and last among them).
+std::vector<std::size_t> kept_points(const std::vector<post::ProgramPoint>& program, std::size_t max_points) {
+  auto differ = [&](std::size_t a, std::size_t b) { return program[a].process_on != program[b].process_on || program[a].layer != program[b].layer; };
+  return kept_indices(program.size(), max_points, [&](std::size_t i) {
+    return i == 0 || i + 1 == program.size() || differ(i - 1, i) || differ(i, i + 1);
+  });
+}
+
+// The playback's frames kept: every k-th, every frame where the process, the layer or the motion
+// mode changes, and the last.
 std::vector<std::size_t> kept_frames(const std::vector<verify::PlaybackFrame>& frames, std::size_t max_frames) {
-  std::vector<std::size_t> kept;
-  const std::size_t n = frames.size();
-  const std::size_t stride = max_frames == 0 || n <= max_frames ? 1 : (n + max_frames - 1) / max_frames;
-  std::size_t since = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const bool change = i == 0 || i + 1 == n || frames[i - 1].process_on != frames[i].process_on || frames[i - 1].layer != frames[i].layer ||
-                        frames[i - 1].rapid != frames[i].rapid;
-    if (stride == 1 || change || ++since >= stride) kept.push_back(i), since = 0;
-  }
-  return kept;
+  return kept_indices(frames.size(), max_frames, [&](std::size_t i) {
+    return i == 0 || i + 1 == frames.size() || frames[i - 1].process_on != frames[i].process_on || frames[i - 1].layer != frames[i].layer ||
+           frames[i - 1].rapid != frames[i].rapid;
+  });
 }
 
 // "playback": the kinematics to pose the machine (machine/kinematics.h: trt-kins' rotation point,
