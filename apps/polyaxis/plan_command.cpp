@@ -74,10 +74,14 @@ std::string set_id(std::string_view gcode, std::string_view report) {
   return fmt::format("{:016x}", h);
 }
 
-// GCODE with the set id in its first comment, `(polyaxis: …)` → `(polyaxis: …, set ID)`: the
-// line count stays, so the lines the report names are unchanged.
+// GCODE with the set id in its first comment, `(polyaxis: …)` → `(polyaxis: …, set ID)` (and
+// Sinumerik's `; polyaxis: …`, RAPID's `! polyaxis: …` under MODULE): the line count stays, so the lines the report names are unchanged.
 std::string with_set_id(const std::string& gcode, const std::string& id) {
   const std::size_t eol = gcode.find('\n');
+  if (gcode.rfind("MODULE ", 0) == 0 && eol != std::string::npos) {  // RAPID: the comment under the MODULE line
+    const std::size_t eol2 = gcode.find('\n', eol + 1);
+    if (eol2 != std::string::npos) return gcode.substr(0, eol2) + ", set " + id + gcode.substr(eol2);
+  }
   if (eol != std::string::npos && eol > 0 && gcode[0] == ';') return gcode.substr(0, eol) + ", set " + id + gcode.substr(eol);  // Sinumerik
   if (eol == std::string::npos || eol == 0 || gcode[eol - 1] != ')' || gcode[0] != '(') return "(polyaxis set " + id + ")\n" + gcode;
   return gcode.substr(0, eol - 1) + ", set " + id + gcode.substr(eol - 1);
@@ -208,6 +212,7 @@ int run_plan(PlanCommandOptions& o) {
   meta.strategy = planner::strategy_name(job.strategy_used);
   meta.choose_s = job.choose_s;
   meta.choice = job.choice;
+  if (machine.robot) meta.robot = &job.gcode_stats;
   std::string report_text;
   if (auto s = write_plan_set(o, job, machine, process, meta, report_text); !s) return report_error(s.error());
   if (warnings > 0) std::fprintf(stderr, "polyaxis: %zu warnings\n", warnings);

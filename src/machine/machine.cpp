@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/config_json.h"
+#include "machine/robot_config.h"
 
 namespace polyaxis::machine {
 
@@ -96,6 +97,7 @@ std::string_view post_dialect_name(PostDialect dialect) {
   switch (dialect) {
     case PostDialect::kLinuxCnc: return "linuxcnc";
     case PostDialect::kSiemensTraori: return "siemens-traori";
+    case PostDialect::kAbbRapid: return "abb-rapid";
   }
   return "?";
 }
@@ -138,7 +140,7 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
   const json& root = doc.value();
   core::detail::ConfigReader r(source);
   MachineConfig m;
-  if (!r.check_object(root, "", {"name", "kinematics", "limits", "pivot", "feed", "nozzle", "head_boxes", "table", "post"})) return r.error();
+  if (!r.check_object(root, "", {"name", "kinematics", "limits", "pivot", "feed", "nozzle", "head_boxes", "table", "post", "robot", "positioner"})) return r.error();
   m.name = r.string(root, "", "name", std::nullopt);
   const std::string kin = r.string(root, "", "kinematics", std::nullopt);
   if (r.failed()) return r.error();
@@ -281,14 +283,18 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
     const std::string post = r.string(root, "", "post", std::nullopt);
     if (post == "siemens-traori") {
       m.post = PostDialect::kSiemensTraori;
+    } else if (post == "abb-rapid") {
+      m.post = PostDialect::kAbbRapid;
     } else if (post != "linuxcnc") {
-      r.fail(fmt::format("unknown 'post' '{}' (supported: linuxcnc, siemens-traori)", post));
+      r.fail(fmt::format("unknown 'post' '{}' (supported: linuxcnc, siemens-traori, abb-rapid)", post));
     }
     if (!r.failed() && m.post == PostDialect::kSiemensTraori && !has_rotary_axes(m.kind)) {
       r.fail("'post' siemens-traori needs a 5-axis machine: TRAORI orients the tool");
     }
     if (r.failed()) return r.error();
   }
+  detail::read_robot_cell(r, root, m);
+  if (r.failed()) return r.error();
   if (r.has(root, "table")) {
     const json& t = root.at("table");
     if (!r.check_object(t, "table", {"radius_mm"})) return r.error();

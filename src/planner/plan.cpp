@@ -126,6 +126,22 @@ core::Status guard_axes(Plan& plan, const machine::MachineConfig& machine, const
       for (toolpath::PathPoint& p : path.points) {
         if (auto s = guard(p); !s) return s;
       }
+      // Both ends clear do not make the turn between them clear where a head circle crosses the
+      // plate's edge: a point whose turn from its neighbour is not clear takes that one's axis
+      // when it is clear there (forward, then backward for the path's first points).
+      auto take_neighbours = [&](std::size_t i, std::size_t from) {
+        toolpath::PathPoint& p = path.points[i];
+        const toolpath::PathPoint& q = path.points[from];
+        if (detail::move_clear(plan.build_model, options.head_clearance_mm, q.position_mm, q.tool_axis, p.position_mm, p.tool_axis)) return;
+        Vec3 axis = q.tool_axis;
+        if (detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, layer.frame.d, axis) &&
+            detail::move_clear(plan.build_model, options.head_clearance_mm, q.position_mm, q.tool_axis, p.position_mm, axis)) {
+          p.tool_axis = axis;
+          ++plan.axes_turned, ++paths[k].axes_turned;
+        }
+      };
+      for (std::size_t i = 1; i < path.points.size(); ++i) take_neighbours(i, i - 1);
+      for (std::size_t i = path.points.size(); i-- > 1;) take_neighbours(i - 1, i);
       // Between two guarded points the axis turns along the way: where the head would come too
       // close in between, a guarded point is added at the middle (the path keeps its shape).
       std::vector<toolpath::PathPoint> refined;
@@ -709,21 +725,31 @@ std::size_t relieve_collisions(Plan& plan, const machine::MachineConfig& machine
   std::size_t turned = 0;
   for (const auto& [layer, index] : marked) {
     toolpath::PathPoint* p = nullptr;
+    std::vector<const toolpath::PathPoint*> neighbours;  // the points the head moves from and to along the path
     std::uint32_t flat = 0;
     for (toolpath::Path& path : plan.toolpaths[layer].paths) {
       if (index < flat + path.points.size()) {
-        p = &path.points[index - flat];
+        const std::size_t i = index - flat;
+        p = &path.points[i];
+        if (i > 0) neighbours.push_back(&path.points[i - 1]);
+        if (i + 1 < path.points.size()) neighbours.push_back(&path.points[i + 1]);
         break;
       }
       flat += static_cast<std::uint32_t>(path.points.size());
     }
     if (p == nullptr) continue;
+    auto turns_clear = [&](Vec3 axis) {
+      return std::all_of(neighbours.begin(), neighbours.end(), [&](const toolpath::PathPoint* q) {
+        return detail::move_clear(plan.build_model, options.head_clearance_mm, q->position_mm, q->tool_axis, p->position_mm, axis);
+      });
+    };
     const Vec3 n = plan.layers.layers[layer].frame.d, up{0, 0, 1};
     const Vec3 candidates[] = {n, core::normalized(n + up), up};
     for (std::uint32_t& step = plan.relieved[{layer, index}]; step < std::size(candidates);) {
       Vec3 axis = candidates[step++];
       if (core::dot(axis, n) < std::cos(toolpath::kMaxTiltRad) || core::norm(axis - core::normalized(p->tool_axis)) < 1e-3) continue;
       if (!detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p->position_mm, n, axis)) continue;
+      if (!turns_clear(axis)) continue;
       p->tool_axis = axis;
       ++turned, ++plan.tilts_eased, ++plan.toolpaths[layer].axes_eased;
       break;

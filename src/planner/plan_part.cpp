@@ -624,6 +624,15 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
                                        "(feed.linear_max_mm_min {} mm/min) is below the process's feed there",
                                        g.linear_limited, g.feed_blocks, machine.feed.linear_max_mm_min));
   }
+  if (const post::GcodeStats& g = out.gcode_stats; machine.robot && g.robot_near_singular > 0) {
+    out.warnings.push_back(fmt::format("{} of {} robot targets hold the wrist within robot.wrist_margin_deg ({}°) of its singularity "
+                                       "(smallest |axis 5| {:.2f}°): the controller may slow down or turn axes 4 and 6 fast there",
+                                       g.robot_near_singular, g.robot_targets, machine.robot->wrist_margin_deg, g.robot_min_wrist_deg));
+  }
+  if (const post::GcodeStats& g = out.gcode_stats; machine.robot && g.robot_config_changes > 0) {
+    out.warnings.push_back(fmt::format("the robot changes its configuration {} times, each on a joint move (MoveJ) with the process off",
+                                       g.robot_config_changes));
+  }
   if (plan.thin_regions > 0) {
     out.warnings.push_back(fmt::format("{} regions thinner than a bead ({:.1f} mm2) get no path; see plan.json", plan.thin_regions,
                                        plan.thin_area_mm2));

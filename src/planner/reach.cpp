@@ -126,4 +126,15 @@ bool guard_axis(const machine::MachineConfig& machine, const machine::BuildModel
   return true;
 }
 
+bool move_clear(const machine::BuildModel& model, double clearance_mm, Vec3 tip_from, Vec3 from, Vec3 tip_to, Vec3 to) {
+  const Vec3 a = core::normalized(from), b = core::normalized(to);
+  const double by_turn = std::ceil(angle(a, b) / (2.0 * kPi / 180.0)), by_length = std::ceil(core::norm(tip_to - tip_from));
+  const int steps = static_cast<int>(std::clamp(std::max(by_turn, by_length), 1.0, 1000.0));
+  for (int k = 0; k <= steps; ++k) {
+    const double u = static_cast<double>(k) / steps;
+    if (machine::head_clearance_mm(model, tip_from + (tip_to - tip_from) * u, slerp(a, b, u)) < clearance_mm) return false;
+  }
+  return true;
+}
+
 }  // namespace polyaxis::planner::detail

@@ -41,6 +41,12 @@ core::Status check_region_reach(const std::vector<PlanRegion>& placed, const mac
 bool guard_axis(const machine::MachineConfig& machine, const machine::BuildModel& model, double reach_rad, double clearance_mm,
                 double lift_mm, Vec3 tip, Vec3 d, Vec3& axis);
 
+// True when the head keeps CLEARANCE_MM above the plate and the table all along a move from
+// (TIP_FROM, FROM) to (TIP_TO, TO): the tip straight, the axis on the great circle, sampled every
+// 2° of turn and every millimetre (and at both ends). Both ends clear do not make the move clear
+// where a head circle's disc crosses the plate's edge. Cost: one clearance evaluation per sample.
+bool move_clear(const machine::BuildModel& model, double clearance_mm, Vec3 tip_from, Vec3 from, Vec3 tip_to, Vec3 to);
+
 // kMachineLimit naming the first placed region that cannot be reached along its own build
 // direction at a corner of its bounding box (table frame): the linear travel, before slicing.
 core::Status check_region_travel(const std::vector<PlanRegion>& placed, const machine::MachineConfig& machine);

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <regex>
 #include <sstream>
 
@@ -76,6 +78,21 @@ std::string switch_problem(const std::string& block) {
   return {};
 }
 
+// "rapid": {"switch": "signal" | "arc", "signal": NAME, "seam": NAME, "weld": NAME}; names are
+// RAPID identifiers (a letter, then letters, digits or _, at most 32).
+void read_rapid(core::detail::ConfigReader& r, const json& obj, ProcessConfig::Rapid& out) {
+  if (!r.check_object(obj, "rapid", {"switch", "signal", "seam", "weld"})) return;
+  const std::string sw = r.string(obj, "rapid", "switch", std::string("signal"));
+  if (sw != "signal" && sw != "arc") return r.fail(fmt::format("'rapid.switch' ('{}') must be \"signal\" or \"arc\"", sw));
+  out.arc = sw == "arc";
+  for (const auto& [key, v] : {std::pair<const char*, std::string*>{"signal", &out.signal}, {"seam", &out.seam}, {"weld", &out.weld}}) {
+    *v = r.string(obj, "rapid", key, *v);
+    const bool ok = !v->empty() && v->size() <= 32 && std::isalpha(static_cast<unsigned char>((*v)[0])) != 0 &&
+                    std::all_of(v->begin(), v->end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) != 0 || ch == '_'; });
+    if (!r.failed() && !ok) return r.fail(fmt::format("'rapid.{}' ('{}') must be a RAPID name: a letter, then letters, digits or _", key, *v));
+  }
+}
+
 }  // namespace
 
 std::string_view default_process_json() { return kDefaultProcess; }
@@ -87,7 +104,7 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   core::detail::ConfigReader r(source);
   if (!r.check_object(root, "", {"name", "bead_width_mm", "layer_mm", "layer_min_mm", "layer_max_mm",
                                  "self_supporting_deg", "deposit_feed_mm_s", "travel_feed_mm_s", "process_on",
-                                 "process_off", "dwell_on_s", "max_step_bead_share", "adaptive_layers", "cusp_mm", "voldiff", "off_vertical_max_deg", "substrate", "rules"})) {
+                                 "process_off", "dwell_on_s", "max_step_bead_share", "adaptive_layers", "cusp_mm", "voldiff", "off_vertical_max_deg", "substrate", "rules", "rapid"})) {
     return r.error();
   }
   ProcessConfig p;
@@ -121,6 +138,7 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
     p.rules.interleave = r.boolean(s, "rules", "interleave", p.rules.interleave);
     p.rules.c_space_margin_mm = r.number(s, "rules", "c_space_margin_mm", p.rules.c_space_margin_mm);
   }
+  if (r.has(root, "rapid")) read_rapid(r, root.at("rapid"), p.rapid);
   if (r.failed()) return r.error();
   if (p.rules.c_space_margin_mm < 0.0) r.fail("'rules.c_space_margin_mm' must be >= 0");
   if (!(p.max_step_bead_share > 0.0 && p.max_step_bead_share <= 1.0)) {

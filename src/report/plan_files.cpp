@@ -78,6 +78,15 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
     }
     j["collision_list"] = std::move(list);
   }
+  if (const post::GcodeStats* r = meta.robot) {
+    // The robot's own inverse kinematics over every written target (post/rapid.h).
+    j["robot"] = {{"targets", r->robot_targets},
+                  {"configuration_changes", r->robot_config_changes},
+                  {"near_wrist_singularity", r->robot_near_singular},
+                  {"min_wrist_deg", r->robot_min_wrist_deg},
+                  {"min_joint_margin_deg", r->robot_min_joint_margin_deg},
+                  {"max_joint_step_deg", r->robot_max_joint_step_deg}};
+  }
   j["substrate"] = {{"x_mm", {plan.build_model.substrate.x_min_mm, plan.build_model.substrate.x_max_mm}},
                     {"y_mm", {plan.build_model.substrate.y_min_mm, plan.build_model.substrate.y_max_mm}},
                     {"top_z_mm", plan.build_model.substrate.top_z_mm},

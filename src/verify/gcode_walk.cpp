@@ -139,6 +139,7 @@ bool layer_comment(std::string_view line, std::int64_t& layer, std::int64_t& reg
 
 core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode, const process::ProcessConfig* process,
                         const WalkCallbacks& cb, bool* program_end_out) {
+  if (m.post == machine::PostDialect::kAbbRapid) return walk_rapid(m, gcode, process, cb, program_end_out);
   const bool five = machine::has_rotary_axes(m.kind);
   const char tilt = machine::tilt_axis_letter(m.kind);
   bool program_end = false;
@@ -358,6 +359,14 @@ machine::MachineToolPose tool_at(const machine::MachineConfig& machine, const Wa
                         mv.from.z_mm + (mv.to.z_mm - mv.from.z_mm) * u, mv.from.a_or_b_deg + (mv.to.a_or_b_deg - mv.from.a_or_b_deg) * u,
                         mv.from.c_deg + (mv.to.c_deg - mv.from.c_deg) * u};
     return machine::forward(machine, p);
+  }
+  if (mv.robot_joint && machine.robot) {
+    machine::RobotJoints q{};
+    for (std::size_t k = 0; k < 6; ++k) q[k] = mv.q_from[k] + (mv.q_to[k] - mv.q_from[k]) * u;
+    MachinePose angles{};
+    angles.a_or_b_deg = mv.from.a_or_b_deg + (mv.to.a_or_b_deg - mv.from.a_or_b_deg) * u;
+    angles.c_deg = mv.from.c_deg + (mv.to.c_deg - mv.from.c_deg) * u;
+    return machine::part_tool_of(machine, angles, machine::robot_tcp_world(*machine.robot, q));
   }
   // The great circle from AXIS_FROM to AXIS_TO (ORIVECT), the tip straight.
   const Vec3 a = mv.axis_from, b = mv.axis_to;

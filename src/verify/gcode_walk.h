@@ -11,6 +11,7 @@
 
 #include "polyaxis/core/result.h"
 #include "polyaxis/machine/kinematics.h"
+#include "polyaxis/machine/robot.h"
 #include "polyaxis/process/process.h"
 
 namespace polyaxis::verify::detail {
@@ -23,6 +24,10 @@ struct WalkMove {
   // the joints polyaxis's inverse kinematics gives at its ends (for limits, speeds and playback).
   bool tool_space = false;
   core::Vec3 tip_from, tip_to, axis_from, axis_to;
+  // A RAPID MoveJ: the robot's joints turn linearly from Q_FROM to Q_TO (and the positioner's axes
+  // from FROM to TO); the TCP follows the arm's forward kinematics, not a straight line.
+  bool robot_joint = false;
+  machine::RobotJoints q_from{}, q_to{};
   bool from_known = true;   // false for the first motion block: the machine was anywhere
   bool rapid = false;
   double time_min = 0.0;    // as LinuxCNC reads F (G1 only; 0 for rapids and the first move)
@@ -35,7 +40,8 @@ struct WalkMove {
 };
 
 // The tool at fraction U of MV: joint-linear (forward kinematics of the interpolated joints), or
-// tip-linear with the axis on the great circle for a tool-space move.
+// tip-linear with the axis on the great circle for a tool-space move, or the robot's and the
+// positioner's joints interpolated for a RAPID MoveJ.
 machine::MachineToolPose tool_at(const machine::MachineConfig& machine, const WalkMove& mv, double u);
 
 struct WalkCallbacks {
@@ -46,6 +52,11 @@ struct WalkCallbacks {
 
 // Walks GCODE on MACHINE. kInvalidInput naming the line for malformed or unsupported G-code (see
 // simulate.h). Sets *PROGRAM_END when M2/M30 is seen (reading stops there).
+// The same for an ABB RAPID module (machine post abb-rapid; rapid_walk.cpp): kInvalidInput naming
+// the line for what it does not read. walk_gcode hands such machines' programs to it.
+core::Status walk_rapid(const machine::MachineConfig& machine, std::string_view text, const process::ProcessConfig* process,
+                        const WalkCallbacks& callbacks, bool* program_end);
+
 core::Status walk_gcode(const machine::MachineConfig& machine, std::string_view gcode, const process::ProcessConfig* process,
                         const WalkCallbacks& callbacks, bool* program_end);
 

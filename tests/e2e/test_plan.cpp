@@ -91,8 +91,8 @@ TEST_P(PlanOnShippedMachines, EveryMachineFilePlansThePart) {
     if (name == "impeller" && machine::has_rotary_axes(m.value().kind)) {
       EXPECT_TRUE(report["support_free"].get<bool>()) << file << report["unsupported_area_mm2"];
     }
-    const bool traori = m.value().post == machine::PostDialect::kSiemensTraori;
-    const auto ngc = dir / (name + (traori ? ".mpf" : ".ngc"));
+    const bool linuxcnc = m.value().post == machine::PostDialect::kLinuxCnc;
+    const auto ngc = dir / (name + std::string(machine::program_extension(m.value().post)));
     ASSERT_TRUE(std::filesystem::exists(ngc)) << ngc;
     const auto sim = run_cli("simulate '" + ngc.string() + "' --machine '" + file.string() + "' --plan '" + (dir / "plan.json").string() +
                              "' --json");
@@ -101,7 +101,7 @@ TEST_P(PlanOnShippedMachines, EveryMachineFilePlansThePart) {
     EXPECT_EQ(j["limit_violations"].get<int>(), 0) << file;
     EXPECT_LE(j["max_tip_deviation_mm"].get<double>(), 0.01) << file;
     const std::string rs274 = rs274_path();
-    if (rs274.empty() || traori) continue;  // rs274 reads LinuxCNC's dialect; the TRAORI program is read back above
+    if (rs274.empty() || !linuxcnc) continue;  // rs274 reads LinuxCNC's dialect; TRAORI and RAPID programs are read back above
     const int status = std::system(("'" + rs274 + "' -g '" + ngc.string() + "' '" + (dir / "canon.txt").string() + "' >/dev/null 2>&1 </dev/null").c_str());
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rs274 refused " << ngc << " for " << file;
   }

@@ -178,7 +178,7 @@ inline ReadBack check_readback(const std::filesystem::path& dir, const std::stri
     ground = surface_points(*prebuilt, 0.5 * reach);
     solid = surface_points(*prebuilt, 2.0 * p.bead_width_mm);
   }
-  const std::string program = name + (machine.value().post == machine::PostDialect::kSiemensTraori ? ".mpf" : ".ngc");
+  const std::string program = name + std::string(machine::program_extension(machine.value().post));
   const ReadBack rb = read_back(machine.value(), p, plate, slurp(dir / program), reach, spacing, false, ground, solid);
   if (!allow_collisions) {
     EXPECT_EQ(rb.head_in_prebuilt, 0u) << name << ": " << rb.first_problem;

@@ -107,16 +107,40 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
   int layer = -1, region = -1;
   double feed = 0.0;
   std::vector<int> started;
-  const std::regex comment(R"(^(?:\(|; )layer (\d+) region (\d+))");
+  const std::regex comment(R"(^(?:\(|; |\s*! )layer (\d+) region (\d+))");
   std::smatch mt;
   const std::string letters = "XYZABC";
   // Sinumerik TRAORI (machine "post" siemens-traori): X Y Z are the tip and A3= B3= C3= the tool
   // vector, both in the part frame: no kinematics between them and the head. Between blocks the tip
   // moves straight and the vector turns along the great circle (here its normalised chord, within
   // a few micrometres at the head's sample spacing).
-  const bool traori = m.post == machine::PostDialect::kSiemensTraori;
+  // ABB RAPID (post abb-rapid): each move's robtarget gives the tip and the TCP's quaternion in the
+  // part frame (the tool axis is its −z), v_tcp the tip's speed (mm/s); SetDO on the process file's
+  // signal, or ArcLStart (off on the way, on after) ArcL ArcLEnd (on, off after), switch the
+  // process. Read like TRAORI's blocks from there on; a MoveJ as a rapid.
+  const bool rapid_module = m.post == machine::PostDialect::kAbbRapid;
+  const bool traori = m.post == machine::PostDialect::kSiemensTraori || rapid_module;
+  const std::regex rapid_move(R"(^\s*(MoveJ|MoveL|ArcLStart|ArcLEnd|ArcL) \[\[([^,]+),([^,]+),([^\]]+)\],\[([^,]+),([^,]+),([^,]+),([^\]]+)\],.*?\]\],\[([^,]+),)");
   std::array<double, 3> vec{0.0, 0.0, 1.0}, prev_vec = vec;
   while (std::getline(in, line)) {
+    if (rapid_module) {
+      if (line.find("SetDO " + proc.rapid.signal + ",1;") != std::string::npos) on = true;
+      if (line.find("SetDO " + proc.rapid.signal + ",0;") != std::string::npos) on = false;
+      std::smatch rm;
+      if (!std::regex_search(line, rm, rapid_move)) {
+        if (!std::regex_search(line, mt, comment)) continue;
+      } else {
+        const std::string instr = rm[1];
+        const double w = std::stod(rm[5]), x = std::stod(rm[6]), y = std::stod(rm[7]), z = std::stod(rm[8]);
+        const double n2 = w * w + x * x + y * y + z * z;
+        // −z of the quaternion's frame, written as a TRAORI block for the reading below.
+        const double vx = -2.0 * (x * z + w * y) / n2, vy = -2.0 * (y * z - w * x) / n2, vz = -(1.0 - 2.0 * (x * x + y * y) / n2);
+        if (proc.rapid.arc) on = instr == "ArcL" || instr == "ArcLEnd";
+        line = (instr == "MoveJ" ? "G0 X" : "G1 X") + std::string(rm[2]) + " Y" + std::string(rm[3]) + " Z" + std::string(rm[4]) +
+               " A3=" + std::to_string(vx) + " B3=" + std::to_string(vy) + " C3=" + std::to_string(vz) + " F" +
+               std::to_string(60.0 * std::stod(rm[9]));
+      }
+    }
     if (std::regex_search(line, mt, comment)) {
       const int l = std::stoi(mt[1]);
       if (l != layer) {
@@ -126,8 +150,8 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
       layer = l, region = std::stoi(mt[2]);
       continue;
     }
-    if (line == proc.process_on) on = true;
-    if (line == proc.process_off) on = false;
+    if (line == proc.process_on && !rapid_module) on = true;
+    if (line == proc.process_off && !rapid_module) on = false;
     if (line.rfind("G0 ", 0) != 0 && line.rfind("G1 ", 0) != 0) continue;
     const bool rapid = line[1] == '0';
     prev = pos;

@@ -5,6 +5,8 @@
 // kinematics convert once.
 #pragma once
 
+#include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,8 +44,14 @@ enum class PostDialect {
   kLinuxCnc,       // "linuxcnc": ISO G-code, joint values for identity kinematics (post/gcode.h)
   kSiemensTraori,  // "siemens-traori": Sinumerik TRAORI, the tip and the tool vector A3 B3 C3 in the
                    // workpiece frame, the controller's kinematics (post/traori.h)
+  kAbbRapid,       // "abb-rapid": an ABB RAPID module for a robot over a positioner, robtargets in a
+                   // work object on the positioner (post/rapid.h); needs "robot" and "positioner"
 };
 std::string_view post_dialect_name(PostDialect dialect);
+// The file extension of the dialect's program: ".ngc", ".mpf", ".mod".
+inline std::string_view program_extension(PostDialect dialect) {
+  return dialect == PostDialect::kSiemensTraori ? ".mpf" : dialect == PostDialect::kAbbRapid ? ".mod" : ".ngc";
+}
 
 struct AxisRange {
   double min = 0.0;  // mm for X Y Z, degrees for A B C
@@ -93,6 +101,32 @@ struct TableModel {
   double radius_mm = 250.0;
 };
 
+// A frame standing on the cell's floor: its origin in the world and its turn about world Z.
+struct FloorFrame {
+  double origin_mm[3] = {0, 0, 0};
+  double rz_deg = 0.0;
+};
+
+// A 6-axis robot carrying the torch over a positioner (machine/robot.h has the model and frames):
+// "robot" and "positioner" in the machine file, with "post": "abb-rapid". The positioner's axes
+// are the machine's table kinematics (xyzac-trt or xyzbc-trt).
+struct RobotCell {
+  std::string model;  // for the program's header, e.g. "ABB IRB 2400"
+  // Ortho-parallel arm with spherical wrist (robot.h), mm: shoulder offset a1, elbow offset a2,
+  // lateral offset b, base height c1, lower arm c2, upper arm c3, wrist to flange c4.
+  double a1_mm = 0, a2_mm = 0, b_mm = 0, c1_mm = 0, c2_mm = 0, c3_mm = 0, c4_mm = 0;
+  std::array<double, 6> sign{1, 1, 1, 1, 1, 1};  // θi = signi·qi + zeroi
+  std::array<double, 6> zero_deg{};
+  std::array<double, 6> min_deg{}, max_deg{};     // the controller's joint limits
+  FloorFrame base;                                // the robot's base frame in the world
+  double tcp_mm[3] = {0, 0, 0};                   // the torch's TCP on the flange (tooldata tframe)
+  double tcp_quaternion[4] = {1, 0, 0, 0};        //   its orientation, w x y z, z toward the work
+  double tool_mass_kg = 5.0;                      //   the torch's mass (tooldata tload), its centre half way out
+  double wrist_margin_deg = 5.0;                  // |θ5| below this counts as near the wrist singularity
+  FloorFrame positioner;                          // the positioner's fixed frame in the world
+  std::string positioner_unit = "STN1";           // its mechanical unit (the work object's ufmec)
+};
+
 struct MachineConfig {
   std::string name;
   Kinematics kind = Kinematics::k3Axis;
@@ -110,6 +144,7 @@ struct MachineConfig {
   std::vector<HeadBox> head_boxes;  // optional, "head_boxes" in the file
   TableModel table;
   PostDialect post = PostDialect::kLinuxCnc;  // "post", optional
+  std::optional<RobotCell> robot;             // exactly with post abb-rapid
 };
 
 // True when the program should unwind C: a 5-axis machine whose C has end stops, or whose

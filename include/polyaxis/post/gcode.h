@@ -40,6 +40,13 @@ struct GcodeStats {
   std::uint64_t feed_blocks = 0;     // G1 blocks
   std::uint64_t linear_limited = 0;  // of which the linear axes' maximum (feed.linear_max_mm_min) set the time
   std::uint64_t rotary_limited = 0;  // of which the rotary axes' maximum set the time (turning the tool)
+  // A robot cell (post abb-rapid): what the robot's own inverse kinematics found along the program.
+  std::uint64_t robot_targets = 0;          // robtargets written
+  std::uint64_t robot_config_changes = 0;   // moves on which the arm changes configuration (cfx): joint moves, process off
+  std::uint64_t robot_near_singular = 0;    // targets with the wrist within robot.wrist_margin_deg of its singularity
+  double robot_min_wrist_deg = 180.0;       // the smallest |θ5| (0: axes 4 and 6 in line)
+  double robot_min_joint_margin_deg = 1e9;  // the smallest distance of any joint to its limits
+  double robot_max_joint_step_deg = 0.0;    // the largest turn of one joint between consecutive targets
 };
 
 struct GcodeOptions {

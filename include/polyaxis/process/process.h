@@ -52,6 +52,13 @@ struct ProcessConfig {
     // The C-space contours are grown by the head's radius plus this (mm).
     double c_space_margin_mm = 0.0;
   } rules;
+  // ABB RAPID programs (machine "post" abb-rapid, post/rapid.h): how the process is switched.
+  struct Rapid {
+    bool arc = false;                 // "switch": "signal" (SetDO SIGNAL, 1 / 0) or "arc" (ArcLStart, ArcL, ArcLEnd)
+    std::string signal = "doProcess"; // the digital output set while depositing
+    std::string seam = "seam1";       // the arc instructions' seamdata and welddata, declared on the controller
+    std::string weld = "weld1";
+  } rapid;
 };
 
 // A layer higher than this fraction of the bead width cannot be deposited as one bead (P2).

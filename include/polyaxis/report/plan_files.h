@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "polyaxis/core/result.h"
+#include "polyaxis/post/gcode.h"
 #include "polyaxis/post/program.h"
 #include "polyaxis/verify/simulate.h"
 #include "polyaxis/verify/verify.h"
@@ -28,6 +29,9 @@ struct PlanMeta {
   // told apart. Empty: not written.
   std::string set_id;
   double choose_s = 0.0;  // planner::PlanPartResult::choose_s
+  // A robot cell (machine post abb-rapid): what the robot's inverse kinematics found along the
+  // program (report.json "robot"). Null elsewhere.
+  const post::GcodeStats* robot = nullptr;
 };
 
 // report.json: the metrics of SPEC §3 (schema in docs/plan.md). SIM is the simulation of the

@@ -53,5 +53,23 @@ TEST(Reach, ARegionLeaningFurtherThanTheProcessDepositsIsRefusedNamingTheKey) {
   EXPECT_NE(beyond.error().message.find("limits.a"), std::string::npos) << beyond.error().message;
 }
 
+TEST(Reach, AMoveWhoseEndsClearThePlateCanStillCrossItsEdge) {
+  // The robot cell's slim torch (a circle of 12 mm at 40 mm up the axis) pointing out over the
+  // plate's edge 5.45 mm above it: horizontal, that circle just misses the plate (the table is
+  // 10 mm lower); tilted up 10 degrees it clears the plate; half way it swings over the plate's
+  // edge while still low: the move between two clear poses is not clear (cyl_walls5's wall roots).
+  machine::BuildModel model;
+  model.nozzle = test::example_machine("robot_abb_positioner").nozzle;
+  model.substrate = {-50.0, -50.0, 50.0, 50.0, 0.0, 10.0};
+  const Vec3 tip{0.0, -50.0 - 12.0 - 0.1 + 40.0, 5.45};
+  const Vec3 level{0.0, -1.0, 0.0}, up10{0.0, -std::cos(10.0 * kDeg), std::sin(10.0 * kDeg)};
+  EXPECT_GT(machine::head_clearance_mm(model, tip, level), 0.0);
+  EXPECT_GT(machine::head_clearance_mm(model, tip, up10), 0.0);
+  EXPECT_FALSE(move_clear(model, 0.0, tip, up10, tip, level));
+  EXPECT_TRUE(move_clear(model, 0.0, tip, up10, tip, up10));
+  // Moving up while it turns, the head stays clear.
+  EXPECT_TRUE(move_clear(model, 0.0, tip, up10, tip + Vec3{0.0, 0.0, 40.0}, level));
+}
+
 }  // namespace
 }  // namespace polyaxis::planner::detail
