@@ -159,7 +159,9 @@ core::Result<SimulationReport> simulate(const machine::MachineConfig& m, std::st
         violation(mv.line, fmt::format("XYZ feed {:.4f} mm/min is above the maximum {} mm/min", l_xyz / t_min,
                                        m.feed.linear_max_mm_min));
       }
-      const double rot_speed = (l_xyz > 0.0 || mv.inverse_time) ? std::max(d_tilt, d_c) / t_min : mv.feed;
+      // F of a rotary-only G-code block is its angular feed; a tool-space block's axes turn as
+      // the controller's kinematics make them in the block's time.
+      const double rot_speed = (l_xyz > 0.0 || mv.inverse_time || mv.tool_space) ? std::max(d_tilt, d_c) / t_min : mv.feed;
       if (rot_speed > m.feed.rotary_max_deg_min * (1.0 + kFeedLimitSlack)) {
         violation(mv.line, fmt::format("rotary feed {:.4f} deg/min is above the maximum {} deg/min", rot_speed,
                                        m.feed.rotary_max_deg_min));
