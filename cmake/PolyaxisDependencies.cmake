@@ -9,5 +9,6 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(POLYCLIPPING REQUIRED IMPORTED_TARGET polyclipping)
 pkg_check_modules(LIB3MF REQUIRED IMPORTED_TARGET lib3MF)
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
+find_package(LibXml2 REQUIRED)  # reading the 3MF toolpath back (verify), its schema check in the tests
 find_package(CGAL REQUIRED)
 find_package(OpenCASCADE REQUIRED)

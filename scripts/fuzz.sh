@@ -12,11 +12,11 @@ fi
 jobs=$(nproc)
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
   -DPOLYAXIS_BUILD_FUZZ=ON -DPOLYAXIS_BUILD_TESTS=OFF -DPOLYAXIS_BUILD_BENCH=OFF >/dev/null
-cmake --build build-fuzz -j"$jobs" --target fuzz_stl fuzz_obj fuzz_3mf fuzz_repair fuzz_plan_json fuzz_config fuzz_gcode
+cmake --build build-fuzz -j"$jobs" --target fuzz_stl fuzz_obj fuzz_3mf fuzz_repair fuzz_plan_json fuzz_config fuzz_gcode fuzz_toolpath_3mf
 mkdir -p build-fuzz/crashes
 # lib3mf 1.8.1 leaks a few bytes per package inside libzip (see tests/fuzz/fuzz_3mf.cpp).
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-for name in stl obj 3mf repair plan_json config gcode; do
+for name in stl obj 3mf repair plan_json config gcode toolpath_3mf; do
   bin=build-fuzz/tests/fuzz/fuzz_$name
   extra=(-artifact_prefix=build-fuzz/crashes/"$name"-)
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1

@@ -16,6 +16,7 @@
 #include "polyaxis/io/output_set.h"
 #include "polyaxis/io/write_file.h"
 #include "polyaxis/post/gcode.h"
+#include "polyaxis/post/toolpath_3mf.h"
 #include "polyaxis/post/traori.h"
 #include "polyaxis/planner/plan_part.h"
 #include "polyaxis/report/layers.h"
@@ -74,19 +75,6 @@ std::string set_id(std::string_view gcode, std::string_view report) {
   return fmt::format("{:016x}", h);
 }
 
-// GCODE with the set id in its first comment, `(polyaxis: …)` → `(polyaxis: …, set ID)` (and
-// Sinumerik's `; polyaxis: …`, RAPID's `! polyaxis: …` under MODULE): the line count stays, so the lines the report names are unchanged.
-std::string with_set_id(const std::string& gcode, const std::string& id) {
-  const std::size_t eol = gcode.find('\n');
-  if (gcode.rfind("MODULE ", 0) == 0 && eol != std::string::npos) {  // RAPID: the comment under the MODULE line
-    const std::size_t eol2 = gcode.find('\n', eol + 1);
-    if (eol2 != std::string::npos) return gcode.substr(0, eol2) + ", set " + id + gcode.substr(eol2);
-  }
-  if (eol != std::string::npos && eol > 0 && gcode[0] == ';') return gcode.substr(0, eol) + ", set " + id + gcode.substr(eol);  // Sinumerik
-  if (eol == std::string::npos || eol == 0 || gcode[eol - 1] != ')' || gcode[0] != '(') return "(polyaxis set " + id + ")\n" + gcode;
-  return gcode.substr(0, eol - 1) + ", set " + id + gcode.substr(eol - 1);
-}
-
 // Writes the plan's files as one set (io::OutputSet): plan.json, report.json (also returned in
 // REPORT_TEXT, for --json), timings.json, report.html, the SVGs, and the G-code last, each carrying
 // the set id (set in META). kOutput when a file cannot be written or the set exceeds
@@ -98,7 +86,9 @@ core::Status write_plan_set(const PlanCommandOptions& o, const planner::PlanPart
   const planner::Plan& plan = job.plan;
   const std::string stem = std::filesystem::path(o.part.path).stem().string();
   meta.set_id = set_id(job.gcode, report::report_json(plan, job.simulation, meta, &job.check));
-  const std::string gcode = with_set_id(job.gcode, meta.set_id);
+  auto stamped = post::with_set_id(machine, job.gcode, meta.set_id);
+  if (!stamped) return stamped.error();
+  const std::string& gcode = stamped.value();
   report_text = report::report_json(plan, job.simulation, meta, &job.check);
   const std::size_t files = 4 + (o.html ? 1 : 0) + (o.svg ? plan.layers.layers.size() : 0);
   core::Progress progress("writing", files);

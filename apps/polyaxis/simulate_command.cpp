@@ -72,7 +72,7 @@ int run_simulate(const SimulateOptions& o) {
 Runner add_simulate_command(CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand("simulate", "Read G-code back through forward kinematics; compare with a plan");
-  cmd->add_option("GCODE", o->gcode_path, "G-code file (LinuxCNC dialect, as polyaxis writes it)")->required();
+  cmd->add_option("GCODE", o->gcode_path, "the program as polyaxis writes it for the machine's post (G-code, RAPID, a 3MF toolpath package)")->required();
   add_config_options(*cmd, o->configs, false);
   cmd->add_option("--plan", o->plan_path, "plan.json of the same program: report the deviation from it");
   cmd->add_option("--path-tolerance-mm", o->path_tolerance_mm,

@@ -42,6 +42,7 @@
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 #include <Model/COM/NMR_DLLInterfaces.h>
 #pragma GCC diagnostic pop
+#include "polyaxis/io/zip_archive.h"
 
 namespace polyaxis::io {
 namespace {
@@ -50,11 +51,6 @@ using core::ErrorCode;
 using core::make_error;
 using core::Vec3;
 
-// Archives below this many uncompressed bytes skip the ratio test: a few kB of XML may compress
-// far better than 1000:1 relative to a tiny file without being a threat.
-constexpr std::uint64_t kRatioCheckFloorBytes = 4ull << 20;
-// More entries than any 3MF producer writes (model, rels, content types, thumbnails, textures).
-constexpr std::uint64_t kMaxZipEntries = 100'000;
 // A transform whose determinant is below this fraction of the product of its row lengths squashes
 // space to (nearly) a plane: |det| / (|r0| |r1| |r2|) is 1 for a rotation and scale-free, so a
 // uniform 0.001 scale is fine while a rank-deficient matrix with float noise is not.
@@ -72,42 +68,6 @@ core::Error invalid(std::string message) { return make_error(ErrorCode::kInvalid
 
 // ---- zip level (libzip) ------------------------------------------------------------------------
 
-// A read-only view of the archive in DATA; owns the libzip handle.
-class ZipReader {
- public:
-  ZipReader() = default;
-  ZipReader(const ZipReader&) = delete;
-  ZipReader& operator=(const ZipReader&) = delete;
-  ~ZipReader() {
-    if (archive_ != nullptr) zip_discard(archive_);
-  }
-
-  // Returns an empty string on success, else libzip's reason.
-  std::string open(std::string_view data) {
-    zip_error_t error;
-    zip_error_init(&error);
-    zip_source_t* source = zip_source_buffer_create(data.data(), data.size(), 0, &error);
-    if (source == nullptr) return reason(&error);
-    archive_ = zip_open_from_source(source, ZIP_RDONLY, &error);
-    if (archive_ == nullptr) {
-      zip_source_free(source);
-      return reason(&error);
-    }
-    return {};
-  }
-
-  zip_t* get() const { return archive_; }
-
- private:
-  static std::string reason(zip_error_t* error) {
-    std::string text = zip_error_strerror(error);
-    zip_error_fini(error);
-    return text;
-  }
-
-  zip_t* archive_ = nullptr;
-};
-
 struct ModelPart {
   zip_uint64_t index = 0;
   std::string path;
@@ -123,149 +83,26 @@ bool ends_with_model(std::string_view path) {
                     [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
 }
 
-// F15: sums the uncompressed sizes the directory declares and refuses archives over the caps,
-// then reads every *.model part (whose sizes are now known to be bounded).
+// F15: the archive's directory checked against the caps (io::read_zip), then every *.model part
+// read (whose sizes are now known to be bounded).
 core::Result<std::vector<ModelPart>> check_and_read_zip(std::string_view data, const std::string& name) {
-  // libzip opens an empty buffer as a new, empty archive; anything shorter than the 22-byte
-  // end-of-central-directory record cannot be a zip file.
-  constexpr std::size_t kMinZipBytes = 22;
-  if (data.size() < kMinZipBytes) {
-    return invalid(fmt::format("{}: not a zip archive, so not a 3MF file ({} bytes)", name, data.size()));
-  }
-  ZipReader zip;
-  if (const std::string why = zip.open(data); !why.empty()) {
-    return invalid(fmt::format("{}: not a zip archive, so not a 3MF file ({})", name, why));
-  }
-  const zip_int64_t count = zip_get_num_entries(zip.get(), 0);
-  if (count < 0) return invalid(fmt::format("{}: unreadable zip directory", name));
-  if (static_cast<std::uint64_t>(count) > kMaxZipEntries) {
-    return invalid(fmt::format("{}: zip archive has {} entries (more than {}); refused", name, count, kMaxZipEntries));
-  }
-
-  std::uint64_t total = 0;
+  auto entries = io::read_zip(data, name, "a 3MF file", ends_with_model);
+  if (!entries) return entries.error();
+  if (entries.value().empty()) return invalid(fmt::format("{}: no 3D model part (3D/3dmodel.model) in the archive", name));
   std::vector<ModelPart> parts;
-  for (zip_uint64_t i = 0; i < static_cast<zip_uint64_t>(count); ++i) {
-    zip_stat_t st;
-    zip_stat_init(&st);
-    if (zip_stat_index(zip.get(), i, 0, &st) != 0 || (st.valid & ZIP_STAT_SIZE) == 0 ||
-        (st.valid & ZIP_STAT_COMP_SIZE) == 0) {
-      return invalid(fmt::format("{}: zip entry {} has no readable size", name, i));
-    }
-    const char* entry_name = (st.valid & ZIP_STAT_NAME) != 0 && st.name != nullptr ? st.name : "";
-    if (st.size > core::kMax3mfUncompressedBytes - std::min(total, core::kMax3mfUncompressedBytes)) {
-      return invalid(fmt::format("{}: zip entries expand to more than {} bytes (entry '{}' alone {}); refused as a "
-                                 "possible zip bomb",
-                                 name, core::kMax3mfUncompressedBytes, entry_name, st.size));
-    }
-    total += st.size;
-    if (st.size > kRatioCheckFloorBytes) {
-      const double ratio = static_cast<double>(st.size) / static_cast<double>(std::max<zip_uint64_t>(st.comp_size, 1));
-      if (ratio > core::kMax3mfCompressionRatio) {
-        return invalid(fmt::format("{}: zip entry '{}' expands {:.0f}:1 ({} bytes from {}); refused as a possible "
-                                   "zip bomb (limit {:.0f}:1)",
-                                   name, entry_name, ratio, st.size, st.comp_size, core::kMax3mfCompressionRatio));
-      }
-    }
-    if (ends_with_model(entry_name)) parts.push_back(ModelPart{i, entry_name, {}, false});
-  }
-  if (total > kRatioCheckFloorBytes) {
-    const double ratio = static_cast<double>(total) / static_cast<double>(std::max<std::size_t>(data.size(), 1));
-    if (ratio > core::kMax3mfCompressionRatio) {
-      return invalid(fmt::format("{}: archive expands {:.0f}:1 ({} bytes from {}); refused as a possible zip bomb "
-                                 "(limit {:.0f}:1)",
-                                 name, ratio, total, data.size(), core::kMax3mfCompressionRatio));
-    }
-  }
-  if (parts.empty()) return invalid(fmt::format("{}: no 3D model part (3D/3dmodel.model) in the archive", name));
-
-  for (ModelPart& part : parts) {
-    zip_stat_t st;
-    zip_stat_init(&st);
-    zip_stat_index(zip.get(), part.index, 0, &st);
-    zip_file_t* file = zip_fopen_index(zip.get(), part.index, 0);
-    if (file == nullptr) {
-      return invalid(fmt::format("{}: cannot open model part '{}' ({})", name, part.path, zip_strerror(zip.get())));
-    }
-    part.xml.resize(static_cast<std::size_t>(st.size));
-    std::size_t done = 0;
-    bool ok = true;
-    while (done < part.xml.size()) {
-      const zip_int64_t n = zip_fread(file, part.xml.data() + done, part.xml.size() - done);
-      if (n <= 0) {
-        ok = false;
-        break;
-      }
-      done += static_cast<std::size_t>(n);
-    }
-    char extra = 0;
-    if (ok && zip_fread(file, &extra, 1) != 0) ok = false;  // more data than the directory declares
-    zip_fclose(file);
-    if (!ok) {
-      return invalid(fmt::format("{}: model part '{}' is corrupt or not {} bytes as declared", name, part.path,
-                                 st.size));
-    }
-  }
+  for (io::ZipEntry& e : entries.value()) parts.push_back(ModelPart{e.index, std::move(e.path), std::move(e.bytes), false});
   return parts;
 }
 
-// Returns a copy of DATA with the modified PARTS replaced (libzip's in-memory round trip).
+// Returns a copy of DATA with the modified PARTS replaced.
 core::Result<std::string> rezip(std::string_view data, const std::vector<ModelPart>& parts, const std::string& name) {
-  const auto fail = [&](const char* what, zip_error_t* error) {
-    std::string text = fmt::format("{}: cannot rewrite the archive without degenerate triangles ({}: {})", name, what,
-                                   zip_error_strerror(error));
-    zip_error_fini(error);
-    return make_error(ErrorCode::kInternal, std::move(text));
-  };
-  zip_error_t error;
-  zip_error_init(&error);
-  zip_source_t* source = zip_source_buffer_create(data.data(), data.size(), 0, &error);
-  if (source == nullptr) return fail("buffer", &error);
-  zip_t* archive = zip_open_from_source(source, 0, &error);
-  if (archive == nullptr) {
-    zip_source_free(source);
-    return fail("open", &error);
-  }
-  zip_source_keep(source);  // the rewritten bytes are read back from it after zip_close
+  std::vector<std::pair<std::string, std::string>> replaced;
   for (const ModelPart& part : parts) {
-    if (!part.modified) continue;
-    zip_source_t* replacement = zip_source_buffer(archive, part.xml.data(), part.xml.size(), 0);
-    if (replacement == nullptr || zip_file_replace(archive, part.index, replacement, 0) != 0) {
-      if (replacement != nullptr) zip_source_free(replacement);
-      zip_error_set(&error, zip_error_code_zip(zip_get_error(archive)), 0);
-      zip_discard(archive);
-      zip_source_free(source);
-      return fail("replace", &error);
-    }
+    if (part.modified) replaced.emplace_back(part.path, part.xml);
   }
-  if (zip_close(archive) != 0) {
-    zip_error_set(&error, zip_error_code_zip(zip_get_error(archive)), 0);
-    zip_discard(archive);
-    zip_source_free(source);
-    return fail("close", &error);
-  }
-  std::string out;
-  zip_stat_t st;
-  zip_stat_init(&st);
-  if (zip_source_open(source) != 0) {
-    zip_source_free(source);
-    zip_error_set(&error, ZIP_ER_OPEN, 0);
-    return fail("reopen", &error);
-  }
-  if (zip_source_stat(source, &st) == 0 && (st.valid & ZIP_STAT_SIZE) != 0) {
-    out.resize(static_cast<std::size_t>(st.size));
-    std::size_t done = 0;
-    while (done < out.size()) {
-      const zip_int64_t n = zip_source_read(source, out.data() + done, out.size() - done);
-      if (n <= 0) break;
-      done += static_cast<std::size_t>(n);
-    }
-    out.resize(done);
-  }
-  zip_source_close(source);
-  zip_source_free(source);
-  if (out.empty()) {
-    zip_error_set(&error, ZIP_ER_READ, 0);
-    return fail("read back", &error);
+  auto out = io::replace_zip_entries(data, replaced);
+  if (!out) {
+    return make_error(ErrorCode::kInternal, fmt::format("{}: cannot rewrite the archive without degenerate triangles ({})", name, out.error().message));
   }
   return out;
 }

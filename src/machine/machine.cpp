@@ -98,6 +98,8 @@ std::string_view post_dialect_name(PostDialect dialect) {
     case PostDialect::kLinuxCnc: return "linuxcnc";
     case PostDialect::kSiemensTraori: return "siemens-traori";
     case PostDialect::kAbbRapid: return "abb-rapid";
+    case PostDialect::k3mfToolpath: return "3mf-toolpath";
+    case PostDialect::kIsoTcp: return "iso-tcp";
   }
   return "?";
 }
@@ -285,11 +287,18 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
       m.post = PostDialect::kSiemensTraori;
     } else if (post == "abb-rapid") {
       m.post = PostDialect::kAbbRapid;
+    } else if (post == "3mf-toolpath") {
+      m.post = PostDialect::k3mfToolpath;
+    } else if (post == "iso-tcp") {
+      m.post = PostDialect::kIsoTcp;
     } else if (post != "linuxcnc") {
-      r.fail(fmt::format("unknown 'post' '{}' (supported: linuxcnc, siemens-traori, abb-rapid)", post));
+      r.fail(fmt::format("unknown 'post' '{}' (supported: linuxcnc, siemens-traori, iso-tcp, abb-rapid, 3mf-toolpath)", post));
     }
     if (!r.failed() && m.post == PostDialect::kSiemensTraori && !has_rotary_axes(m.kind)) {
       r.fail("'post' siemens-traori needs a 5-axis machine: TRAORI orients the tool");
+    }
+    if (!r.failed() && m.post == PostDialect::kIsoTcp && !has_rotary_axes(m.kind)) {
+      r.fail("'post' iso-tcp needs a 5-axis machine: G43.4 keeps the tip while rotary axes turn");
     }
     if (r.failed()) return r.error();
   }

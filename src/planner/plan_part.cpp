@@ -668,7 +668,9 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
 }  // namespace
 
 core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                       const process::ProcessConfig& process, const PlanPartOptions& options) {
+                                       const process::ProcessConfig& process, const PlanPartOptions& asked) {
+  PlanPartOptions options = asked;
+  if (options.gcode.part == nullptr) options.gcode.part = &part.mesh;  // the posts that carry the part (3MF toolpath)
   auto first = plan_part_as_asked(part, machine, process, options);
   if (options.plan.layers != LayerChoice::kAuto || !first) return first;
   const std::string turned = turned_layers(first.value().plan);

@@ -100,16 +100,4 @@ core::Result<std::string> write_traori(const machine::MachineConfig& machine, co
   return w.take();
 }
 
-core::Result<std::string> write_program(const machine::MachineConfig& machine, const process::ProcessConfig& process,
-                                        std::span<const ProgramPoint> points, const GcodeOptions& options) {
-  switch (machine.post) {
-    case machine::PostDialect::kSiemensTraori: return write_traori(machine, process, points, options);
-    case machine::PostDialect::kAbbRapid: return write_rapid(machine, process, points, options);
-    case machine::PostDialect::kLinuxCnc: break;
-  }
-  return write_gcode(machine, process, points, options);
-}
-
-std::string_view program_extension(const machine::MachineConfig& machine) { return machine::program_extension(machine.post); }
-
 }  // namespace polyaxis::post

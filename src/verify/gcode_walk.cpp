@@ -135,11 +135,39 @@ bool layer_comment(std::string_view line, std::int64_t& layer, std::int64_t& reg
   return true;
 }
 
+// The joints that put the tip at TIP with the rotary axes at ANGLES' (its linear axes ignored):
+// for fixed rotary axes the tip is an affine map of the linear ones, solved here by Cramer's rule.
+std::optional<MachinePose> joints_for_tip(const machine::MachineConfig& m, Vec3 tip, const MachinePose& angles) {
+  MachinePose p = angles;
+  p.x_mm = p.y_mm = p.z_mm = 0.0;
+  const Vec3 t0 = machine::forward(m, p).tip_part_mm;
+  Vec3 col[3];
+  for (int k = 0; k < 3; ++k) {
+    MachinePose q = p;
+    (k == 0 ? q.x_mm : k == 1 ? q.y_mm : q.z_mm) = 1.0;
+    col[k] = machine::forward(m, q).tip_part_mm - t0;
+  }
+  const double det = core::dot(col[0], core::cross(col[1], col[2]));
+  if (!(std::abs(det) > 1e-12)) return std::nullopt;
+  const Vec3 r = tip - t0;
+  p.x_mm = core::dot(r, core::cross(col[1], col[2])) / det;
+  p.y_mm = core::dot(col[0], core::cross(r, col[2])) / det;
+  p.z_mm = core::dot(col[0], core::cross(col[1], r)) / det;
+  return p;
+}
+
+// The tool axis (part frame) with the rotary axes at POSE's.
+Vec3 axis_at(const machine::MachineConfig& m, MachinePose pose) {
+  pose.x_mm = pose.y_mm = pose.z_mm = 0.0;
+  return core::normalized(machine::forward(m, pose).tool_axis_part);
+}
+
 }  // namespace
 
 core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode, const process::ProcessConfig* process,
                         const WalkCallbacks& cb, bool* program_end_out) {
   if (m.post == machine::PostDialect::kAbbRapid) return walk_rapid(m, gcode, process, cb, program_end_out);
+  if (m.post == machine::PostDialect::k3mfToolpath) return walk_toolpath_3mf(m, gcode, cb, program_end_out);
   const bool five = machine::has_rotary_axes(m.kind);
   const char tilt = machine::tilt_axis_letter(m.kind);
   bool program_end = false;
@@ -153,6 +181,10 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
   // Sinumerik TRAORI: the tip and the tool vector (modal), and whether TRAORI is on.
   const bool sinumerik = m.post == machine::PostDialect::kSiemensTraori;
   bool traori = false;
+  // ISO under tool centre point control (post iso-tcp): X Y Z the tip once G43.4 is on.
+  const bool iso_tcp = m.post == machine::PostDialect::kIsoTcp;
+  bool tcp = false;
+  MachinePose angles{};
   Vec3 tip{}, vec{0.0, 0.0, 1.0};
 
   std::uint64_t line_no = 0;
@@ -176,6 +208,13 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
         continue;
       }
       if (word == "ORIWKS" || word == "ORIVECT") continue;
+    }
+    {
+      // A tape's "%" start and end lines.
+      std::string_view word = line;
+      while (!word.empty() && (word.back() == ' ' || word.back() == '\t' || word.back() == '\r')) word.remove_suffix(1);
+      while (!word.empty() && (word.front() == ' ' || word.front() == '\t')) word.remove_prefix(1);
+      if (word == "%") continue;
     }
     const auto words = tokenize(line, why, sinumerik);
     if (!words) return bad(why);
@@ -211,8 +250,11 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
             inverse_time = false;
           } else if (g == 17.0 || g == 21.0 || g == 90.0 || (sinumerik && g == 71.0)) {
             // the only plane, unit and distance modes the writer uses
+          } else if (iso_tcp && (w.text.substr(1) == "43.4" || g == 49.0)) {
+            tcp = g != 49.0;
           } else {
-            return bad(fmt::format("G{} is not supported (the simulator reads G0 G1 G4 G17 G21 G90 G93 G94)", w.text.substr(1)));
+            return bad(fmt::format("G{} is not supported (the simulator reads G0 G1 G4 G17 G21 G90 G93 G94{})", w.text.substr(1),
+                                   iso_tcp ? " G43.4 G49" : ""));
           }
           break;
         }
@@ -244,6 +286,9 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
           if (!(w.value > 0.0)) return bad("F must be > 0");
           f_word = w.value;
           break;
+        case 'H':
+          if (!iso_tcp) return bad("unsupported word 'H'");
+          break;
         case 'P':
         case 'S':
         case 'N': break;
@@ -257,7 +302,7 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
     if (dwell) {
       double seconds = 0.0;
       for (const Word& w : *words) {
-        if (w.letter == (sinumerik ? 'F' : 'P')) seconds = w.value;
+        if (w.letter == (sinumerik ? 'F' : iso_tcp ? 'X' : 'P')) seconds = w.value;
       }
       if (cb.dwell) cb.dwell(line_no, seconds, process_on);
       continue;
@@ -303,6 +348,46 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
       if (!rapid) mv.time_min = tip_mm > 0.0 ? tip_mm / feed : turn_deg / feed;
       if (cb.move) cb.move(mv);
       pos = to;
+      continue;
+    }
+
+    if (iso_tcp) {
+      if (!tcp) return bad("motion without G43.4: the program gives the tip, which needs tool centre point control");
+      const Vec3 tip_from = tip;
+      const MachinePose angles_from = angles;
+      if (axis[0]) tip.x = *axis[0];
+      if (axis[1]) tip.y = *axis[1];
+      if (axis[2]) tip.z = *axis[2];
+      if (axis[3]) angles.a_or_b_deg = *axis[3];
+      if (axis[4]) angles.a_or_b_deg = *axis[4];
+      if (axis[5]) angles.c_deg = *axis[5];
+      const auto joints = joints_for_tip(m, tip, angles);
+      if (!joints) return bad("no linear axis pose puts the tip there");
+      const bool rapid = motion_mode == 0;
+      if (!rapid && !(feed > 0.0)) return bad("feed move without a feed rate (F)");
+      if (cb.target) cb.target(line_no, *joints, line);
+      WalkMove mv;
+      mv.line = line_no, mv.from = pos, mv.to = *joints, mv.rapid = rapid, mv.f_word = f_word, mv.feed = feed;
+      mv.process_on = process_on, mv.layer = layer, mv.region = region;
+      mv.tool_space = true, mv.rotary_linear = true;
+      mv.tip_from = tip_from, mv.tip_to = tip, mv.axis_from = axis_at(m, angles_from), mv.axis_to = axis_at(m, angles);
+      if (!have_position) {
+        mv.from_known = false;
+        if (cb.move) cb.move(mv);
+        pos = *joints;
+        have_position = true;
+        continue;
+      }
+      const double tip_mm = core::norm(tip - tip_from);
+      mv.l_xyz_mm = norm(Vec3{joints->x_mm - pos.x_mm, joints->y_mm - pos.y_mm, joints->z_mm - pos.z_mm});
+      mv.d_tilt_deg = std::abs(joints->a_or_b_deg - pos.a_or_b_deg);
+      mv.d_c_deg = std::abs(joints->c_deg - pos.c_deg);
+      const double l_rot = std::hypot(mv.d_tilt_deg, mv.d_c_deg);
+      if (tip_mm == 0.0 && l_rot == 0.0) continue;
+      // F is the tip's feed over the part; a block turning the axes alone moves at degrees per minute.
+      if (!rapid) mv.time_min = tip_mm > 0.0 ? tip_mm / feed : l_rot / feed;
+      if (cb.move) cb.move(mv);
+      pos = *joints;
       continue;
     }
 
@@ -367,6 +452,13 @@ machine::MachineToolPose tool_at(const machine::MachineConfig& machine, const Wa
     angles.a_or_b_deg = mv.from.a_or_b_deg + (mv.to.a_or_b_deg - mv.from.a_or_b_deg) * u;
     angles.c_deg = mv.from.c_deg + (mv.to.c_deg - mv.from.c_deg) * u;
     return machine::part_tool_of(machine, angles, machine::robot_tcp_world(*machine.robot, q));
+  }
+  if (mv.rotary_linear) {
+    // G43.4: the tip straight, the rotary axes linear.
+    MachinePose angles = mv.from;
+    angles.a_or_b_deg += (mv.to.a_or_b_deg - mv.from.a_or_b_deg) * u;
+    angles.c_deg += (mv.to.c_deg - mv.from.c_deg) * u;
+    return {mv.tip_from + (mv.tip_to - mv.tip_from) * u, axis_at(machine, angles)};
   }
   // The great circle from AXIS_FROM to AXIS_TO (ORIVECT), the tip straight.
   const Vec3 a = mv.axis_from, b = mv.axis_to;

@@ -1,6 +1,7 @@
 // Reading the G-code dialect the machine file's post writes, block by block, for the simulator and
-// the build verifier: modal state (G0/G1, G93/G94, F), axis words as joint positions (LinuxCNC) or
-// the tip and the tool vector A3 B3 C3 under TRAORI (Sinumerik), the process switched by the
+// the build verifier: modal state (G0/G1, G93/G94, F), axis words as joint positions (LinuxCNC),
+// the tip and the tool vector A3 B3 C3 under TRAORI (Sinumerik), or the tip and the rotary axes
+// under G43.4 (ISO tool centre point control), the process switched by the
 // process file's codes, dwells, and the "(layer N region R ...)" or "; layer N region R ..." comments.
 #pragma once
 
@@ -24,6 +25,9 @@ struct WalkMove {
   // the joints polyaxis's inverse kinematics gives at its ends (for limits, speeds and playback).
   bool tool_space = false;
   core::Vec3 tip_from, tip_to, axis_from, axis_to;
+  // An ISO block under G43.4 (post iso-tcp): the tip straight from TIP_FROM to TIP_TO while the
+  // rotary axes turn linearly from FROM's to TO's; the tool axis is theirs (not a great circle).
+  bool rotary_linear = false;
   // A RAPID MoveJ: the robot's joints turn linearly from Q_FROM to Q_TO (and the positioner's axes
   // from FROM to TO); the TCP follows the arm's forward kinematics, not a straight line.
   bool robot_joint = false;
@@ -56,6 +60,10 @@ struct WalkCallbacks {
 // the line for what it does not read. walk_gcode hands such machines' programs to it.
 core::Status walk_rapid(const machine::MachineConfig& machine, std::string_view text, const process::ProcessConfig* process,
                         const WalkCallbacks& callbacks, bool* program_end);
+
+// The same for a 3MF toolpath package (machine post 3mf-toolpath; toolpath_3mf_walk.cpp): its
+// "lines" are the package's poses counted from 1. walk_gcode hands such machines' programs to it.
+core::Status walk_toolpath_3mf(const machine::MachineConfig& machine, std::string_view package, const WalkCallbacks& callbacks, bool* program_end);
 
 core::Status walk_gcode(const machine::MachineConfig& machine, std::string_view gcode, const process::ProcessConfig* process,
                         const WalkCallbacks& callbacks, bool* program_end);

@@ -18,6 +18,7 @@
 #include "support/meshes.h"
 #include "support/plan_checks.h"
 #include "support/readback.h"
+#include "support/toolpath_3mf_schema.h"
 
 namespace polyaxis::test {
 namespace {
@@ -60,55 +61,66 @@ INSTANTIATE_TEST_SUITE_P(Parts, PlanPart,
 // Every machine file shipped in examples/machines plans every reference part (the default
 // machine's own file is PlanPart's): the program stays in the machine's limits and on the plan
 // when read back through that machine's kinematics, and the head strikes nothing. gantry3's
-// travel starts at 0, so a part is centred in the travel (machine::work_centre_mm).
-class PlanOnShippedMachines : public testing::TestWithParam<const char*> {};
+// travel starts at 0, so a part is centred in the travel (machine::work_centre_mm). One test per
+// part and machine, so that none runs long; ShippedMachinesAreAllTested keeps the list whole.
+constexpr const char* kShippedMachines[] = {"ded5_ac_3mf", "ded5_ac_iso_tcp", "ded5_ac_traori", "ded5_bc", "ded5_head_ac", "ded5_head_bc", "gantry3", "robot_abb_positioner"};
+
+TEST(PlanOnShippedMachines, ShippedMachinesAreAllTested) {
+  const std::filesystem::path machines = std::filesystem::path(POLYAXIS_PARTS_DIR).parent_path() / "machines";
+  std::vector<std::string> shipped, tested(std::begin(kShippedMachines), std::end(kShippedMachines));
+  for (const auto& e : std::filesystem::directory_iterator(machines)) {
+    if (e.path().stem() != "ded5_ac") shipped.push_back(e.path().stem().string());  // the default: PlanPart's
+  }
+  std::sort(shipped.begin(), shipped.end());
+  EXPECT_EQ(shipped, tested);
+}
+
+class PlanOnShippedMachines : public testing::TestWithParam<std::tuple<const char*, const char*>> {};
 
 TEST_P(PlanOnShippedMachines, EveryMachineFilePlansThePart) {
-  const std::string name = GetParam();
+  const std::string name = std::get<0>(GetParam());
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/" + name + ".stl";
-  const std::filesystem::path machines = std::filesystem::path(POLYAXIS_PARTS_DIR).parent_path() / "machines";
-  auto fallback = machine::parse_machine(machine::default_machine_json(), "default");
-  ASSERT_TRUE(fallback.ok());
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(machines)) files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  ASSERT_GE(files.size(), 3u);
-  for (const auto& file : files) {
-    auto m = machine::parse_machine(slurp(file), file.string());
-    ASSERT_TRUE(m.ok()) << file;
-    if (m.value().name == fallback.value().name) continue;
-    TempDir dir;
-    const auto plan = run_cli("plan '" + part + "' -o '" + dir.path().string() + "' --no-html --machine '" + file.string() + "'");
-    ASSERT_EQ(plan.exit_code, 0) << file << ": " << plan.err;
-    const auto report = read_json(dir / "report.json");
-    EXPECT_EQ(report["collisions"].get<int>(), 0) << file << report["collision_list"];
-    EXPECT_TRUE(report["build_check"]["mid_air_regions"].empty()) << file;
-    // Our own reader, through this machine's kinematics: the head above the plate, no region in
-    // mid-air, every bead of a support-free plan grounded, no stalls.
-    check_readback(dir.path(), name, false, nullptr, file);
-    // Kapil's tilted torch on the impeller's blade tips works as well from a tilting head over the
-    // fixed part as from a tilting table.
-    if (name == "impeller" && machine::has_rotary_axes(m.value().kind)) {
-      EXPECT_TRUE(report["support_free"].get<bool>()) << file << report["unsupported_area_mm2"];
-    }
-    const bool linuxcnc = m.value().post == machine::PostDialect::kLinuxCnc;
-    const auto ngc = dir / (name + std::string(machine::program_extension(m.value().post)));
-    ASSERT_TRUE(std::filesystem::exists(ngc)) << ngc;
-    const auto sim = run_cli("simulate '" + ngc.string() + "' --machine '" + file.string() + "' --plan '" + (dir / "plan.json").string() +
-                             "' --json");
-    ASSERT_EQ(sim.exit_code, 0) << file << ": " << sim.err;
-    const auto j = nlohmann::json::parse(sim.out);
-    EXPECT_EQ(j["limit_violations"].get<int>(), 0) << file;
-    EXPECT_LE(j["max_tip_deviation_mm"].get<double>(), 0.01) << file;
-    const std::string rs274 = rs274_path();
-    if (rs274.empty() || !linuxcnc) continue;  // rs274 reads LinuxCNC's dialect; TRAORI and RAPID programs are read back above
-    const int status = std::system(("'" + rs274 + "' -g '" + ngc.string() + "' '" + (dir / "canon.txt").string() + "' >/dev/null 2>&1 </dev/null").c_str());
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rs274 refused " << ngc << " for " << file;
+  const std::filesystem::path file =
+      std::filesystem::path(POLYAXIS_PARTS_DIR).parent_path() / "machines" / (std::string(std::get<1>(GetParam())) + ".json");
+  auto m = machine::parse_machine(slurp(file), file.string());
+  ASSERT_TRUE(m.ok()) << file;
+  TempDir dir;
+  const auto plan = run_cli("plan '" + part + "' -o '" + dir.path().string() + "' --no-html --machine '" + file.string() + "'");
+  ASSERT_EQ(plan.exit_code, 0) << file << ": " << plan.err;
+  const auto report = read_json(dir / "report.json");
+  EXPECT_EQ(report["collisions"].get<int>(), 0) << file << report["collision_list"];
+  EXPECT_TRUE(report["build_check"]["mid_air_regions"].empty()) << file;
+  // Our own reader, through this machine's kinematics: the head above the plate, no region in
+  // mid-air, every bead of a support-free plan grounded, no stalls.
+  check_readback(dir.path(), name, false, nullptr, file);
+  // Kapil's tilted torch on the impeller's blade tips works as well from a tilting head over the
+  // fixed part as from a tilting table.
+  if (name == "impeller" && machine::has_rotary_axes(m.value().kind)) {
+    EXPECT_TRUE(report["support_free"].get<bool>()) << file << report["unsupported_area_mm2"];
   }
+  const bool linuxcnc = m.value().post == machine::PostDialect::kLinuxCnc;
+  const auto ngc = dir / (name + std::string(machine::program_extension(m.value().post)));
+  ASSERT_TRUE(std::filesystem::exists(ngc)) << ngc;
+  if (m.value().post == machine::PostDialect::k3mfToolpath) {
+    // The package validates against the Toolpath Extension's schema.
+    EXPECT_EQ(toolpath_schema_errors(std::string(POLYAXIS_SCHEMA_DIR) + "/toolpath_3mf.xsd", zip_parts(slurp(ngc))), 0) << ngc;
+  }
+  const auto sim = run_cli("simulate '" + ngc.string() + "' --machine '" + file.string() + "' --plan '" + (dir / "plan.json").string() +
+                           "' --json");
+  ASSERT_EQ(sim.exit_code, 0) << file << ": " << sim.err;
+  const auto j = nlohmann::json::parse(sim.out);
+  EXPECT_EQ(j["limit_violations"].get<int>(), 0) << file;
+  EXPECT_LE(j["max_tip_deviation_mm"].get<double>(), 0.01) << file;
+  const std::string rs274 = rs274_path();
+  if (rs274.empty() || !linuxcnc) return;  // rs274 reads LinuxCNC's dialect; TRAORI and RAPID programs are read back above
+  const int status = std::system(("'" + rs274 + "' -g '" + ngc.string() + "' '" + (dir / "canon.txt").string() + "' >/dev/null 2>&1 </dev/null").c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rs274 refused " << ngc << " for " << file;
 }
 
 INSTANTIATE_TEST_SUITE_P(Parts, PlanOnShippedMachines,
-                         testing::Values("cyl_walls5", "dome_sphere", "hinge", "impeller", "l_block", "pen_rack", "spiral", "two_branches"));
+                         testing::Combine(testing::Values("cyl_walls5", "dome_sphere", "hinge", "impeller", "l_block", "pen_rack", "spiral",
+                                                          "two_branches"),
+                                          testing::ValuesIn(kShippedMachines)));
 
 TEST(PlanImpeller, TiltedTorchMakesTheBladeTipsSupportFree) {  // Kapil's comparison
   TempDir dir;

@@ -118,8 +118,12 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
   // part frame (the tool axis is its −z), v_tcp the tip's speed (mm/s); SetDO on the process file's
   // signal, or ArcLStart (off on the way, on after) ArcL ArcLEnd (on, off after), switch the
   // process. Read like TRAORI's blocks from there on; a MoveJ as a rapid.
+  // ISO under G43.4 (post iso-tcp): X Y Z are the tip in the part frame and A/B C the rotary axes,
+  // which turn linearly while the tip runs straight; the tool axis is the rotary axes' (forward
+  // kinematics of the interpolated angles).
   const bool rapid_module = m.post == machine::PostDialect::kAbbRapid;
   const bool traori = m.post == machine::PostDialect::kSiemensTraori || rapid_module;
+  const bool tcp = m.post == machine::PostDialect::kIsoTcp;
   const std::regex rapid_move(R"(^\s*(MoveJ|MoveL|ArcLStart|ArcLEnd|ArcL) \[\[([^,]+),([^,]+),([^\]]+)\],\[([^,]+),([^,]+),([^,]+),([^\]]+)\],.*?\]\],\[([^,]+),)");
   std::array<double, 3> vec{0.0, 0.0, 1.0}, prev_vec = vec;
   while (std::getline(in, line)) {
@@ -173,6 +177,12 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
       return machine::MachinePose{lerp(0), lerp(1), lerp(2), tilt == 'B' ? lerp(4) : lerp(3), lerp(5)};
     };
     auto tool = [&](double u) {
+      if (tcp) {
+        machine::MachinePose angles = pose(prev, pos, u);
+        const core::Vec3 tip{angles.x_mm, angles.y_mm, angles.z_mm};
+        angles.x_mm = angles.y_mm = angles.z_mm = 0.0;
+        return machine::MachineToolPose{tip, machine::forward(m, angles).tool_axis_part};
+      }
       if (!traori) return machine::forward(m, pose(prev, pos, u));
       const core::Vec3 a{prev_vec[0], prev_vec[1], prev_vec[2]}, b{vec[0], vec[1], vec[2]};
       const core::Vec3 t{prev[0] + (pos[0] - prev[0]) * u, prev[1] + (pos[1] - prev[1]) * u, prev[2] + (pos[2] - prev[2]) * u};

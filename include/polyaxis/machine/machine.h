@@ -46,12 +46,26 @@ enum class PostDialect {
                    // workpiece frame, the controller's kinematics (post/traori.h)
   kAbbRapid,       // "abb-rapid": an ABB RAPID module for a robot over a positioner, robtargets in a
                    // work object on the positioner (post/rapid.h); needs "robot" and "positioner"
+  kIsoTcp,         // "iso-tcp": ISO G-code under tool centre point control (G43.4): the tip in the
+                   // workpiece frame and the rotary axes' words, the controller's kinematics (post/iso_tcp.h)
+  k3mfToolpath,    // "3mf-toolpath": a 3MF package with the Toolpath Extension's 6-axis poses (the tip
+                   // and the tool's frame, part frame) beside the part (post/toolpath_3mf.h)
 };
 std::string_view post_dialect_name(PostDialect dialect);
-// The file extension of the dialect's program: ".ngc", ".mpf", ".mod".
+// The file extension of the dialect's program: ".ngc", ".mpf", ".mod", ".nc", ".build.3mf" (the
+// double extension the Toolpath Extension recommends for build-ready packages).
 inline std::string_view program_extension(PostDialect dialect) {
-  return dialect == PostDialect::kSiemensTraori ? ".mpf" : dialect == PostDialect::kAbbRapid ? ".mod" : ".ngc";
+  switch (dialect) {
+    case PostDialect::kSiemensTraori: return ".mpf";
+    case PostDialect::kAbbRapid: return ".mod";
+    case PostDialect::k3mfToolpath: return ".build.3mf";
+    case PostDialect::kIsoTcp: return ".nc";
+    case PostDialect::kLinuxCnc: break;
+  }
+  return ".ngc";
 }
+// Whether the dialect's program is text read line by line (G-code, RAPID), not a package.
+inline bool program_is_text(PostDialect dialect) { return dialect != PostDialect::k3mfToolpath; }
 
 struct AxisRange {
   double min = 0.0;  // mm for X Y Z, degrees for A B C

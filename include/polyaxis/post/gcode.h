@@ -33,6 +33,10 @@
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
 
+namespace polyaxis::mesh {
+struct Mesh;
+}
+
 namespace polyaxis::post {
 
 // What the writer did to the feeds (catalogue O3: slowing down is a warning with the count).
@@ -50,6 +54,8 @@ struct GcodeStats {
 };
 
 struct GcodeOptions {
+  // The part, in the program's (part) frame, for posts that carry it (the 3MF toolpath's object).
+  const mesh::Mesh* part = nullptr;
   double chordal_mm = 0.01;            // largest tip deviation from the planned segment between blocks
   bool rapid_travel = false;           // travel moves (process off) as G0 at the controller's rapid rates
                                        // instead of G1 at their planned feed

@@ -1,0 +1,106 @@
+#include "polyaxis/post/iso_tcp.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <optional>
+
+#include "polyaxis/machine/kinematics.h"
+#include "post/tool_space.h"
+
+namespace polyaxis::post {
+namespace {
+
+using core::ErrorCode;
+using core::make_error;
+using machine::MachinePose;
+
+// A rotary word as written (4 decimals).
+double written_deg(double v) { return std::round(v * 1e4) / 1e4; }
+
+class IsoTcp final : public detail::ToolSpaceDialect {
+ public:
+  IsoTcp(const machine::MachineConfig& m, const process::ProcessConfig& p, const GcodeOptions& o) : m_(m), p_(p), o_(o) {}
+
+  core::Result<MachinePose> pose_of(const ProgramPoint& pt, const MachinePose* previous) override {
+    auto pose = machine::inverse(m_, detail::written_tip(pt.tip_part_mm), detail::written_vector(pt.tool_axis_part), previous);
+    if (pose) pose.value().a_or_b_deg = written_deg(pose.value().a_or_b_deg), pose.value().c_deg = written_deg(pose.value().c_deg);
+    return pose;
+  }
+
+  void header() override {
+    line("%");
+    line(fmt::format("(polyaxis: machine {} [{}], process {}, post iso-tcp)", text(m_.name), machine::kinematics_name(m_.kind), text(p_.name)));
+    line(fmt::format("(X Y Z: the tip in the workpiece frame, {} C: the rotary axes; G43.4: the controller keeps the tip)", tilt_));
+    line("G21 G90 G94 G17");
+    line("G43.4 H1");
+  }
+
+  void comment(const ProgramPoint& pt) override { line(fmt::format("(layer {} region {} {})", pt.layer, pt.region, text(pt.comment_if_new_block))); }
+
+  core::Status block(detail::BlockKind kind, const ProgramPoint& pt, const MachinePose& pose, double feed_mm_s, const ProgramPoint*) override {
+    const bool feed = kind == detail::BlockKind::kFeed;
+    std::string b = fmt::format("{} X{:.4f} Y{:.4f} Z{:.4f} {}{:.4f} C{:.4f}", feed ? "G1" : "G0", pt.tip_part_mm.x, pt.tip_part_mm.y,
+                                pt.tip_part_mm.z, tilt_, pose.a_or_b_deg, pose.c_deg);
+    if (feed) {
+      const double f = std::round(600.0 * feed_mm_s) / 10.0;  // mm/min, as the loop rounded it down
+      if (!last_feed_ || f != *last_feed_) b += fmt::format(" F{:.1f}", f);
+      last_feed_ = f;
+      if (o_.stats != nullptr) ++o_.stats->feed_blocks;
+    }
+    line(b);
+    return {};
+  }
+
+  void switch_process(bool on) override {
+    if (on == on_) return;
+    line(on ? p_.process_on : p_.process_off);
+    if (on && p_.dwell_on_s > 0.0) line(fmt::format("G4 X{:.4f}", p_.dwell_on_s));
+    on_ = on;
+  }
+
+  void footer(std::uint64_t stall_splits) override {
+    if (stall_splits > 0) line(fmt::format("(polyaxis: {} turns in place with the process off, where the axes could not keep the deposit feed)", stall_splits));
+    line("G49");
+    line("M30");
+    line("%");
+  }
+
+  std::size_t size() const override { return out_.size(); }
+  std::string take() { return std::move(out_); }
+
+ private:
+  // Comment text: printable ASCII without parentheses, which would end the comment.
+  static std::string text(std::string_view s) {
+    std::string out = detail::comment_text(s);
+    for (char& c : out) c = (c == '(' || c == ')') ? '?' : c;
+    return out;
+  }
+  void line(std::string_view s) {
+    out_ += s;
+    out_ += '\n';
+  }
+
+  const machine::MachineConfig& m_;
+  const process::ProcessConfig& p_;
+  const GcodeOptions& o_;
+  const char tilt_ = machine::tilt_axis_letter(m_.kind);
+  std::string out_;
+  bool on_ = false;
+  std::optional<double> last_feed_;
+};
+
+}  // namespace
+
+core::Result<std::string> write_iso_tcp(const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                        std::span<const ProgramPoint> points, const GcodeOptions& options) {
+  if (points.empty()) return make_error(ErrorCode::kInfeasible, "no program points to write");
+  if (!machine::has_rotary_axes(machine.kind)) {
+    return make_error(ErrorCode::kUsage, fmt::format("ISO TCP (G43.4) needs a 5-axis machine; '{}' is {}", machine.name, machine::kinematics_name(machine.kind)));
+  }
+  IsoTcp w(machine, process, options);
+  if (auto st = detail::write_tool_space(machine, points, options, w); !st) return st.error();
+  return w.take();
+}
+
+}  // namespace polyaxis::post
