@@ -203,4 +203,23 @@ core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in
   return best.pose;
 }
 
+std::optional<MachinePose> joints_for_tip(const MachineConfig& m, Vec3 tip, const MachinePose& angles) {
+  MachinePose p = angles;
+  p.x_mm = p.y_mm = p.z_mm = 0.0;
+  const Vec3 t0 = forward(m, p).tip_part_mm;
+  Vec3 col[3];
+  for (int k = 0; k < 3; ++k) {
+    MachinePose q = p;
+    (k == 0 ? q.x_mm : k == 1 ? q.y_mm : q.z_mm) = 1.0;
+    col[k] = forward(m, q).tip_part_mm - t0;
+  }
+  const double det = core::dot(col[0], core::cross(col[1], col[2]));
+  if (!(std::abs(det) > 1e-12)) return std::nullopt;
+  const Vec3 r = tip - t0;  // Cramer's rule
+  p.x_mm = core::dot(r, core::cross(col[1], col[2])) / det;
+  p.y_mm = core::dot(col[0], core::cross(r, col[2])) / det;
+  p.z_mm = core::dot(col[0], core::cross(col[1], r)) / det;
+  return p;
+}
+
 }  // namespace polyaxis::machine

@@ -23,9 +23,16 @@ class IsoTcp final : public detail::ToolSpaceDialect {
   IsoTcp(const machine::MachineConfig& m, const process::ProcessConfig& p, const GcodeOptions& o) : m_(m), p_(p), o_(o) {}
 
   core::Result<MachinePose> pose_of(const ProgramPoint& pt, const MachinePose* previous) override {
-    auto pose = machine::inverse(m_, detail::written_tip(pt.tip_part_mm), detail::written_vector(pt.tool_axis_part), previous);
-    if (pose) pose.value().a_or_b_deg = written_deg(pose.value().a_or_b_deg), pose.value().c_deg = written_deg(pose.value().c_deg);
-    return pose;
+    // The axes as the controller will put them: the rotary words as written, and the linear axes
+    // that bring the written tip there (so that feeds are timed on what the machine does).
+    const core::Vec3 tip = detail::written_tip(pt.tip_part_mm);
+    auto pose = machine::inverse(m_, tip, detail::written_vector(pt.tool_axis_part), previous);
+    if (!pose) return pose;
+    pose.value().a_or_b_deg = written_deg(pose.value().a_or_b_deg), pose.value().c_deg = written_deg(pose.value().c_deg);
+    const auto joints = machine::joints_for_tip(m_, tip, pose.value());
+    if (!joints) return make_error(ErrorCode::kInternal, "no linear axis pose puts the tip there");
+    if (const std::string why = machine::limit_violation(m_, *joints); !why.empty()) return make_error(ErrorCode::kMachineLimit, why);
+    return *joints;
   }
 
   void header() override {

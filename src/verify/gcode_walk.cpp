@@ -135,27 +135,6 @@ bool layer_comment(std::string_view line, std::int64_t& layer, std::int64_t& reg
   return true;
 }
 
-// The joints that put the tip at TIP with the rotary axes at ANGLES' (its linear axes ignored):
-// for fixed rotary axes the tip is an affine map of the linear ones, solved here by Cramer's rule.
-std::optional<MachinePose> joints_for_tip(const machine::MachineConfig& m, Vec3 tip, const MachinePose& angles) {
-  MachinePose p = angles;
-  p.x_mm = p.y_mm = p.z_mm = 0.0;
-  const Vec3 t0 = machine::forward(m, p).tip_part_mm;
-  Vec3 col[3];
-  for (int k = 0; k < 3; ++k) {
-    MachinePose q = p;
-    (k == 0 ? q.x_mm : k == 1 ? q.y_mm : q.z_mm) = 1.0;
-    col[k] = machine::forward(m, q).tip_part_mm - t0;
-  }
-  const double det = core::dot(col[0], core::cross(col[1], col[2]));
-  if (!(std::abs(det) > 1e-12)) return std::nullopt;
-  const Vec3 r = tip - t0;
-  p.x_mm = core::dot(r, core::cross(col[1], col[2])) / det;
-  p.y_mm = core::dot(col[0], core::cross(r, col[2])) / det;
-  p.z_mm = core::dot(col[0], core::cross(col[1], r)) / det;
-  return p;
-}
-
 // The tool axis (part frame) with the rotary axes at POSE's.
 Vec3 axis_at(const machine::MachineConfig& m, MachinePose pose) {
   pose.x_mm = pose.y_mm = pose.z_mm = 0.0;
@@ -361,7 +340,7 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
       if (axis[3]) angles.a_or_b_deg = *axis[3];
       if (axis[4]) angles.a_or_b_deg = *axis[4];
       if (axis[5]) angles.c_deg = *axis[5];
-      const auto joints = joints_for_tip(m, tip, angles);
+      const auto joints = machine::joints_for_tip(m, tip, angles);
       if (!joints) return bad("no linear axis pose puts the tip there");
       const bool rapid = motion_mode == 0;
       if (!rapid && !(feed > 0.0)) return bad("feed move without a feed rate (F)");

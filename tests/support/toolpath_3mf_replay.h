@@ -41,16 +41,30 @@ inline Replay3mf replay_toolpath_3mf(const std::string& package, const process::
   Replay3mf out;
   auto parts = zip_parts(package);
   const std::string& model = parts["3D/3dmodel.model"];
-  std::smatch m;
+  // The tags "<NAME ..." in TEXT[from, to), one string each (std::regex is recursive: no long spans).
+  auto tags = [](const std::string& text, std::size_t from, std::size_t to, const std::string& name) {
+    std::vector<std::string> found;
+    for (std::size_t at = text.find("<" + name + " ", from); at < to; at = text.find("<" + name + " ", at + 1)) {
+      found.push_back(text.substr(at, text.find('>', at) + 1 - at));
+    }
+    return found;
+  };
+  auto attribute = [](const std::string& tag, const std::string& name) {
+    const std::size_t at = tag.find(" " + name + "=\"");
+    if (at == std::string::npos) return std::string();
+    const std::size_t from = at + name.size() + 3;
+    return tag.substr(from, tag.find('"', from) - from);
+  };
+  auto number = [](const std::string& text) { return text.empty() ? 0.0 : std::stod(text); };
   double unit = 0.0, speed = 0.0, fmin = 0.0, fmax = 0.0, wait_us = 0.0;
-  if (std::regex_search(model, m, std::regex(R"~(unitfactor="([^"]+)")~"))) unit = std::stod(m[1]);
-  if (std::regex_search(model, m, std::regex(R"~(depositionspeed="([^"]+)")~"))) speed = std::stod(m[1]);
-  if (std::regex_search(model, m, std::regex(R"~(prewaittime="([^"]+)")~"))) wait_us = std::stod(m[1]);
-  if (std::regex_search(model, m, std::regex(R"~(minvalue="([^"]+)" maxvalue="([^"]+)")~"))) fmin = std::stod(m[1]), fmax = std::stod(m[2]);
+  for (const std::string& tag : tags(model, 0, model.size(), "tp:toolpathresource")) unit = number(attribute(tag, "unitfactor"));
+  for (const std::string& tag : tags(model, 0, model.size(), "tp:toolpathprofile")) {
+    speed = number(attribute(tag, "depositionspeed")), wait_us = number(attribute(tag, "prewaittime"));
+  }
+  for (const std::string& tag : tags(model, 0, model.size(), "tp:modifier")) fmin = number(attribute(tag, "minvalue")), fmax = number(attribute(tag, "maxvalue"));
   EXPECT_GT(unit, 0.0);
   EXPECT_GT(speed, 0.0);
-  const std::regex pose_re(R"r(<(point6d|pa:pose) x="(-?\d+)" y="(-?\d+)" z="(-?\d+)" i="([^"]+)" j="([^"]+)" k="([^"]+)" w="([^"]+)"(?: (speed|f)="([^"]+)")?/>)r");
-  const std::regex layer_path(R"~(path="/(Toolpath/Layers/layer\d+\.xml)")~");
+  const std::regex pose_re(R"r(^<(point6d|pa:pose) x="(-?\d+)" y="(-?\d+)" z="(-?\d+)" i="([^"]+)" j="([^"]+)" k="([^"]+)" w="([^"]+)"(?: (speed|f)="([^"]+)")?/>)r");
   std::string& t = out.traori;
   bool on = false;
   auto block = [&](const std::smatch& p, bool feed_move, double feed_mm_s) {
@@ -70,41 +84,47 @@ inline Replay3mf replay_toolpath_3mf(const std::string& package, const process::
     t += (want ? proc.process_on : proc.process_off) + "\n";
     on = want;
   };
-  for (auto it = std::sregex_iterator(model.begin(), model.end(), layer_path); it != std::sregex_iterator(); ++it) {
-    const std::string& layer = parts[(*it)[1]];
+  for (const std::string& entry : tags(model, 0, model.size(), "tp:toolpathlayer")) {
+    const std::string& layer = parts[attribute(entry, "path").substr(1)];
     ++out.layers;
-    if (std::regex_search(layer, m, std::regex(R"~(<pa:layer index="(\d+)" region="(\d+)"/>)~"))) t += fmt::format("; layer {} region {}\n", m[1].str(), m[2].str());
-    std::map<int, std::string> jumps;
-    const std::regex jump_re(R"~(<pa:jump segment="(\d+)">(.*?)</pa:jump>)~");
-    for (auto j = std::sregex_iterator(layer.begin(), layer.end(), jump_re); j != std::sregex_iterator(); ++j) jumps[std::stoi((*j)[1])] = (*j)[2];
-    std::vector<std::string> segments;
-    const std::regex seg_re(R"~(<segment type="polyline6d"[^>]*>([\s\S]*?)</segment>)~");
-    for (auto s = std::sregex_iterator(layer.begin(), layer.end(), seg_re); s != std::sregex_iterator(); ++s) segments.push_back((*s)[1]);
+    for (const std::string& l : tags(layer, 0, layer.size(), "pa:layer")) {
+      t += fmt::format("; layer {} region {}\n", attribute(l, "index"), attribute(l, "region"));
+    }
+    std::map<int, std::pair<std::size_t, std::size_t>> jumps;  // segment -> its pa:jump's span
+    for (std::size_t at = layer.find("<pa:jump "); at != std::string::npos; at = layer.find("<pa:jump ", at + 1)) {
+      jumps[std::stoi(attribute(layer.substr(at, layer.find('>', at) + 1 - at), "segment"))] = {at, layer.find("</pa:jump>", at)};
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> segments;
+    for (std::size_t at = layer.find("<segment type=\"polyline6d\""); at != std::string::npos; at = layer.find("<segment type=\"polyline6d\"", at + 1)) {
+      segments.emplace_back(at, layer.find("</segment>", at));
+    }
     for (int s = 0; s <= static_cast<int>(segments.size()); ++s) {
       if (jumps.count(s) != 0) {
         process(false);
-        const std::string& body = jumps[s];
-        for (auto p = std::sregex_iterator(body.begin(), body.end(), pose_re); p != std::sregex_iterator(); ++p) {
-          const bool has_speed = (*p)[9].matched;
-          block(*p, has_speed, has_speed ? std::stod((*p)[10]) : 0.0);
+        for (const std::string& tag : tags(layer, jumps[s].first, jumps[s].second, "pa:pose")) {
+          std::smatch p;
+          EXPECT_TRUE(std::regex_search(tag, p, pose_re)) << tag;
+          const bool has_speed = p[9].matched;
+          block(p, has_speed, has_speed ? std::stod(p[10]) : 0.0);
         }
       }
       if (s == static_cast<int>(segments.size())) break;
       ++out.segments;
-      const std::string& body = segments[static_cast<std::size_t>(s)];
       bool first = true;
-      for (auto p = std::sregex_iterator(body.begin(), body.end(), pose_re); p != std::sregex_iterator(); ++p) {
+      for (const std::string& tag : tags(layer, segments[static_cast<std::size_t>(s)].first, segments[static_cast<std::size_t>(s)].second, "point6d")) {
+        std::smatch p;
+        EXPECT_TRUE(std::regex_search(tag, p, pose_re)) << tag;
         ++out.points;
         if (first) {
           process(false);
-          block(*p, false, 0.0);
+          block(p, false, 0.0);
           process(true);
           if (wait_us > 0.0) t += fmt::format("G4 F{:.4f}\n", wait_us * 1e-6);
           first = false;
           continue;
         }
-        const double f = (*p)[9].matched ? std::stod((*p)[10]) : 1.0;
-        block(*p, true, (*p)[9].matched ? fmin + f * (fmax - fmin) : speed);
+        const double f = p[9].matched ? std::stod(p[10]) : 1.0;
+        block(p, true, p[9].matched ? fmin + f * (fmax - fmin) : speed);
       }
     }
   }

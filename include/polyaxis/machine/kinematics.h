@@ -35,6 +35,8 @@
 // rotated pivot offset (Rule 8); tests/unit/machine/test_kinematics.cpp checks both.
 #pragma once
 
+#include <optional>
+
 #include <string>
 
 #include "polyaxis/core/result.h"
@@ -93,6 +95,12 @@ MachineToolPose forward(const MachineConfig& machine, const MachinePose& pose);
 // zero or non-finite input. Cost: constant.
 core::Result<MachinePose> inverse(const MachineConfig& machine, Vec3 tip_part_mm, Vec3 tool_axis_part,
                                   const MachinePose* previous);
+
+// The linear axes that put the tip at TIP_PART_MM with the rotary axes where ANGLES has them (its
+// linear axes are ignored): for fixed rotary axes the tip is an affine map of the linear ones,
+// solved exactly. What a controller under tool centre point control (G43.4) does with a block's
+// tip and rotary words. nullopt when that map is singular (never on the shipped kinematics).
+std::optional<MachinePose> joints_for_tip(const MachineConfig& machine, Vec3 tip_part_mm, const MachinePose& angles);
 
 // The first soft-limit violation of POSE ("C = 400.0000° is beyond its maximum 360°"), or "" when
 // POSE is inside every limit (with kAxisLimitSlack).
