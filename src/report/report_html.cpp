@@ -8,8 +8,10 @@
 #include <cstdint>
 #include <cstring>
 #include <iterator>
+#include <numbers>
 #include <nlohmann/json.hpp>
 
+#include "polyaxis/machine/robot.h"
 #include "polyaxis/mesh/properties.h"
 
 namespace polyaxis::report {
@@ -87,6 +89,36 @@ std::vector<std::size_t> kept_frames(const std::vector<verify::PlaybackFrame>& f
   });
 }
 
+// ,"robot":{...},"arm":"..." for a robot cell's playback, else "": the arm's geometry (robot.h),
+// its base frame and TCP in the playback's frame (the positioner's fixed frame, where the joints X
+// Y Z put the tip), its joints q1..q6 for each kept frame, and, for the viewer's test, the TCP our
+// own forward kinematics gives at the first kept frame.
+std::string robot_json(const ViewPlayback& p, const std::vector<std::size_t>& kept) {
+  const machine::MachineConfig& m = p.machine;
+  if (!m.robot || kept.empty() || !p.frames[kept.front()].has_arm) return {};
+  const machine::RobotCell& r = *m.robot;
+  std::vector<float> arm;
+  for (const std::size_t i : kept) arm.insert(arm.end(), p.frames[i].arm.begin(), p.frames[i].arm.end());
+  // The scene is the positioner's fixed frame: world = Rz(P.rz)·scene + P.origin.
+  const double prz = r.positioner.rz_deg * std::numbers::pi / 180.0;
+  auto to_scene = [&](core::Vec3 w) {
+    const core::Vec3 d{w.x - r.positioner.origin_mm[0], w.y - r.positioner.origin_mm[1], w.z - r.positioner.origin_mm[2]};
+    return core::Vec3{std::cos(prz) * d.x + std::sin(prz) * d.y, -std::sin(prz) * d.x + std::cos(prz) * d.y, d.z};
+  };
+  const core::Vec3 base = to_scene({r.base.origin_mm[0], r.base.origin_mm[1], r.base.origin_mm[2]});
+  machine::RobotJoints q0{};
+  for (std::size_t k = 0; k < 6; ++k) q0[k] = p.frames[kept.front()].arm[k];
+  const core::Vec3 tcp = to_scene(machine::robot_tcp_world(r, q0).origin);
+  auto six = [](const std::array<double, 6>& v) { return fmt::format("[{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}]", v[0], v[1], v[2], v[3], v[4], v[5]); };
+  return fmt::format(
+      ",\"robot\":{{\"model\":{},\"geometry_mm\":[{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}],\"sign\":{},\"zero_deg\":{},"
+      "\"base\":[{:.9g},{:.9g},{:.9g},{:.9g}],\"tcp\":[{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}],\"check_tcp\":[{:.9g},{:.9g},{:.9g}]}},"
+      "\"arm\":\"{}\"",
+      nlohmann::json(r.model).dump(), r.a1_mm, r.a2_mm, r.b_mm, r.c1_mm, r.c2_mm, r.c3_mm, r.c4_mm, six(r.sign), six(r.zero_deg), base.x, base.y, base.z,
+      r.base.rz_deg - r.positioner.rz_deg, r.tcp_mm[0], r.tcp_mm[1], r.tcp_mm[2], r.tcp_quaternion[0], r.tcp_quaternion[1], r.tcp_quaternion[2],
+      r.tcp_quaternion[3], tcp.x, tcp.y, tcp.z, base64(arm));
+}
+
 // "playback": the kinematics to pose the machine (machine/kinematics.h: trt-kins' rotation point,
 // tilt offset and sense; the head's pivot length), the head, table and plate to draw, and the
 // frames (joints X Y Z tilt C, the time each ends, its line, process and rapid flags, its layer).
@@ -107,6 +139,7 @@ std::string playback_json(const ViewPlayback& p, const machine::BuildModel& mode
   }
   const machine::TrtPivot& pv = m.pivot;
   const bool a = machine::tilt_axis_letter(m.kind) == 'A';
+  const std::string robot = robot_json(p, kept);
   const double dz = pv.z_offset_mm + pv.tool_offset_mm;
   const machine::SubstratePlate& s = model.substrate;
   const machine::NozzleModel& n = model.nozzle;
@@ -115,13 +148,13 @@ std::string playback_json(const ViewPlayback& p, const machine::BuildModel& mode
       "\"nozzle\":{{\"tip_half_angle_deg\":{:.6g},\"cone_height_mm\":{:.6g},\"cylinder_radius_mm\":{:.6g},\"cylinder_height_mm\":{:.6g}}},"
       "\"table\":{{\"radius_mm\":{:.6g},\"centre\":[{:.6g},{:.6g}],\"top_z_mm\":{:.6g}}},"
       "\"plate\":{{\"x_mm\":[{:.6g},{:.6g}],\"y_mm\":[{:.6g},{:.6g}],\"top_z_mm\":{:.6g},\"thickness_mm\":{:.6g}}},"
-      "\"total_frames\":{},\"duration_s\":{:.6g},\"joints\":\"{}\",\"time\":\"{}\",\"line\":\"{}\",\"layer\":\"{}\",\"flags\":\"{}\"}}",
+      "\"total_frames\":{},\"duration_s\":{:.6g},\"joints\":\"{}\",\"time\":\"{}\",\"line\":\"{}\",\"layer\":\"{}\",\"flags\":\"{}\"{}}}",
       nlohmann::json(std::string(machine::kinematics_name(m.kind))).dump(), pv.conventional_directions ? 1 : -1, pv.x_rot_point_mm,
       pv.y_rot_point_mm, pv.z_rot_point_mm, a ? 0.0 : pv.x_offset_mm, a ? pv.y_offset_mm : 0.0, dz, pv.pivot_length_mm,
       n.tip_half_angle_deg, n.cone_height_mm, n.cylinder_radius_mm, n.cylinder_height_mm, model.table_radius_mm, model.table_centre_mm.x,
       model.table_centre_mm.y, model.table_top_z_mm(), s.x_min_mm, s.x_max_mm, s.y_min_mm, s.y_max_mm, s.top_z_mm, s.thickness_mm,
       p.frames.size(), p.frames.empty() ? 0.0 : p.frames.back().time_s, base64(joints), base64(times), base64(lines), base64(layers),
-      base64(flags));
+      base64(flags), robot);
 }
 
 }  // namespace

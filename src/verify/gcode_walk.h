@@ -32,6 +32,8 @@ struct WalkMove {
   // from FROM to TO); the TCP follows the arm's forward kinematics, not a straight line.
   bool robot_joint = false;
   machine::RobotJoints q_from{}, q_to{};
+  // A RAPID move of any kind: the arm's joints at its end (for the playback's robot).
+  std::optional<machine::RobotJoints> arm_to;
   bool from_known = true;   // false for the first motion block: the machine was anywhere
   bool rapid = false;
   double time_min = 0.0;    // as LinuxCNC reads F (G1 only; 0 for rapids and the first move)

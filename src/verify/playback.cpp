@@ -12,6 +12,8 @@ core::Result<std::vector<PlaybackFrame>> playback_frames(const machine::MachineC
   double now = 0.0;
   machine::MachinePose at{};
   std::int64_t layer = -1, region = -1;
+  bool has_arm = false;
+  std::array<float, 6> arm{};
   detail::WalkCallbacks cb;
   cb.move = [&](const detail::WalkMove& mv) {
     double minutes = mv.time_min;
@@ -22,11 +24,15 @@ core::Result<std::vector<PlaybackFrame>> playback_frames(const machine::MachineC
     }
     if (mv.from_known) now += 60.0 * std::max(0.0, minutes);
     at = mv.to, layer = mv.layer, region = mv.region;
-    frames.push_back({mv.to, now, mv.line, mv.process_on, mv.rapid, mv.layer, mv.region});
+    if (mv.arm_to) {
+      has_arm = true;
+      for (std::size_t k = 0; k < 6; ++k) arm[k] = static_cast<float>((*mv.arm_to)[k]);
+    }
+    frames.push_back({mv.to, now, mv.line, mv.process_on, mv.rapid, mv.layer, mv.region, has_arm, arm});
   };
   cb.dwell = [&](std::uint64_t line, double seconds, bool on) {
     now += std::max(0.0, seconds);
-    if (!frames.empty()) frames.push_back({at, now, line, on, false, layer, region});
+    if (!frames.empty()) frames.push_back({at, now, line, on, false, layer, region, has_arm, arm});
   };
   bool end = false;
   if (auto st = detail::walk_gcode(machine, gcode, &process, cb, &end); !st) return st.error();

@@ -394,6 +394,7 @@ class RapidWalk {
     mv.tool_space = true;
     mv.tip_from = tip_, mv.tip_to = t.pos, mv.axis_from = axis_, mv.axis_to = part_tcp.z * -1.0;
     if (instr == "MoveJ") mv.robot_joint = true, mv.q_from = q_, mv.q_to = *q;
+    mv.arm_to = *q;
     mv.feed = 60.0 * speed[0];
     mv.f_word = mv.feed;
     if (have_) {

@@ -190,6 +190,19 @@ function decodePlayback(p) {
   const nz = p.nozzle || {};
   const table = p.table || {};
   const plate = p.plate || {};
+  let robot = null;
+  if (p.robot) {
+    const arm = typed(p.arm, Float32Array, 'playback.arm');
+    if (arm.length !== 6 * n) throw new Error(`playback.arm: ${arm.length} floats for ${n} frames of six joints`);
+    const list = (v, k, what) => {
+      if (!Array.isArray(v) || v.length !== k || !v.every((x) => Number.isFinite(x))) throw new Error(`playback.robot.${what}: expected ${k} numbers`);
+      return v.map(Number);
+    };
+    const r = p.robot;
+    robot = { model: String(r.model ?? ''), geometry: list(r.geometry_mm, 7, 'geometry_mm'), sign: list(r.sign, 6, 'sign'),
+      zero: list(r.zero_deg, 6, 'zero_deg'), base: list(r.base, 4, 'base'), tcp: list(r.tcp, 7, 'tcp'),
+      checkTcp: list(r.check_tcp, 3, 'check_tcp'), arm };
+  }
   return {
     kinematics: String(p.kinematics ?? 'xyz'),
     sense: p.sense === 1 ? 1 : -1,
@@ -205,7 +218,7 @@ function decodePlayback(p) {
     plate: { x: range(plate.x_mm), y: range(plate.y_mm), top: num(plate.top_z_mm, 0), thickness: num(plate.thickness_mm, 10) },
     totalFrames: num(p.total_frames, n),
     duration: num(p.duration_s, n ? time[n - 1] : 0),
-    n, joints, time, line, layer, flags,
+    n, joints, time, line, layer, flags, robot,
   };
 }
 

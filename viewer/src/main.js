@@ -110,6 +110,12 @@ function start() {
     layerCount: nLayers,
     setLayer: (i) => { const k = setLayer(i); view.render(); return k; },
     renderNow: () => view.render(),
+    // The camera FACTOR times as far from what it looks at (for the docs' pictures).
+    zoom: (factor) => {
+      view.camera.position.sub(view.controls.target).multiplyScalar(Number(factor) || 1).add(view.controls.target);
+      view.controls.update();
+      view.render();
+    },
     stats: { ...paths.stats, decodeMs: tDecoded - t0, contourPoints: layers.contourPoints, regions: data.regions.length },
     playback: player,
   });
@@ -221,6 +227,10 @@ function startPlayback(data, panel, part, view, setLayer, centre, paths, shells)
     isPlaying: () => playing,
     // Milliseconds between the animation frames while playing (each draws the moved machine).
     frameTimes: () => intervals.slice(),
+    // A robot cell: the first frame's TCP by polyaxis's own forward kinematics (to hold the arm's
+    // drawing to), and each frame's time (to seek exactly onto a frame).
+    robot: pb.robot ? { model: pb.robot.model, checkTcp: pb.robot.checkTcp.slice() } : null,
+    frameTime: (i) => pb.time[Math.max(0, Math.min(pb.n - 1, i))],
   };
 }
 

@@ -6,6 +6,7 @@
 import {
   BoxGeometry, BufferGeometry, Color, CylinderGeometry, Group, Line, LineBasicMaterial, Matrix4, Mesh, MeshStandardMaterial, Vector3,
 } from 'three';
+import { buildArm } from './robot.js';
 
 const DEG = Math.PI / 180;
 
@@ -99,7 +100,14 @@ export function buildPlayback(pb, part, scene, collisions, onLayer) {
   const collisionLines = collisions.map((c) => c.line).filter((l) => l > 0).sort((a, b) => a - b);
   const normal = new Color(0x5b6773), struck = new Color(0xe02020);
   const j = new Float64Array(5);
+  const q = [0, 0, 0, 0, 0, 0];
   const m = new Matrix4();
+  // A robot cell: the arm carries the head; its joints are interpolated as the positioner's.
+  const arm = pb.robot ? buildArm(pb.robot) : null;
+  if (arm) {
+    arm.group.visible = false;
+    scene.add(arm.group);
+  }
   let active = false, current = -1, lastLayer = null;
 
   // Joints at time t: the frame ending at or before t and the next, interpolated.
@@ -109,6 +117,7 @@ export function buildPlayback(pb, part, scene, collisions, onLayer) {
     const t0 = pb.time[i], t1 = pb.time[k];
     const u = k === i || t1 <= t0 ? 0 : Math.min(1, Math.max(0, (t - t0) / (t1 - t0)));
     for (let a = 0; a < 5; a++) j[a] = pb.joints[5 * i + a] + (pb.joints[5 * k + a] - pb.joints[5 * i + a]) * u;
+    if (arm) for (let a = 0; a < 6; a++) q[a] = pb.robot.arm[6 * i + a] + (pb.robot.arm[6 * k + a] - pb.robot.arm[6 * i + a]) * u;
     return u > 0 ? k : i; // the block being run
   }
 
@@ -124,10 +133,18 @@ export function buildPlayback(pb, part, scene, collisions, onLayer) {
     if (pb.n === 0) return null;
     const previous = current;
     current = jointsAt(Math.max(0, Math.min(pb.duration, t)));
+    let armTcp = null;
     if (turnsTable) {
       part.matrix.copy(tableMatrix(pb, j, m));
       head.position.set(j[0], j[1], j[2]);
       head.quaternion.identity();
+      if (arm) {
+        // The torch where the arm holds it: at its TCP, along the TCP's −z (the tool axis).
+        const pose = arm.update(q);
+        armTcp = pose.points[5];
+        head.position.copy(armTcp);
+        head.quaternion.setFromUnitVectors(new Vector3(0, 0, 1), new Vector3(0, 0, -1).applyMatrix4(pose.tcpRotation).normalize());
+      }
     } else if (tiltsHead) {
       part.matrix.identity();
       const axis = headAxis(pb, j[3], j[4]);
@@ -148,13 +165,14 @@ export function buildPlayback(pb, part, scene, collisions, onLayer) {
       onLayer(layer);
     }
     return { frame: current, line: pb.line[current], layer, processOn: (pb.flags[current] & 1) !== 0, rapid: (pb.flags[current] & 2) !== 0,
-      joints: Array.from(j), struck: hit };
+      joints: Array.from(j), struck: hit, arm: arm ? q.slice() : null, armTcp: armTcp ? armTcp.toArray() : null };
   }
 
   function setActive(on) {
     active = on;
     head.visible = on;
     table.visible = on;
+    if (arm) arm.group.visible = on;
     if (!on) {
       part.matrix.identity();
       part.matrixWorldNeedsUpdate = true;

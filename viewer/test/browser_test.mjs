@@ -203,6 +203,29 @@ try {
     playNote = `playback ${pb.frames} frames over ${pb.duration.toFixed(0)} s: scrub changed ${moved.changed} px, `
       + `play changed ${played.changed} px, frame time mean ${mean.toFixed(1)} ms, p95 ${p95.toFixed(1)} ms (${times.length} frames)`;
     console.log(playNote);
+    const robot = await page.evaluate(() => window.polyaxisViewer.playback.robot);
+    if (robot) {
+      // The arm is drawn where the program puts the torch: at frames across the program, the TCP
+      // of the arm's forward kinematics (robot.js) is the tip the positioner's joints give, and at
+      // the first frame it is the TCP of polyaxis's own forward kinematics (machine/robot.h).
+      const worst = await page.evaluate((check) => {
+        const p = window.polyaxisViewer.playback;
+        let tip = 0, first = null;
+        for (const share of [0, 0.2, 0.4, 0.6, 0.8, 1]) {
+          const s = p.seek(p.frameTime(Math.floor(share * (p.frames - 1))));
+          if (!s || !s.armTcp) return { error: 'no arm drawn' };
+          tip = Math.max(tip, Math.hypot(s.armTcp[0] - s.joints[0], s.armTcp[1] - s.joints[1], s.armTcp[2] - s.joints[2]));
+          if (first === null) first = Math.hypot(s.armTcp[0] - check[0], s.armTcp[1] - check[1], s.armTcp[2] - check[2]);
+        }
+        return { tip, first };
+      }, robot.checkTcp);
+      if (worst.error) await finish(1, `FAIL ${name}: ${worst.error}`);
+      if (!(worst.tip <= 0.05) || !(worst.first <= 0.01)) {
+        await finish(1, `FAIL ${name}: the ${robot.model} is drawn ${worst.tip} mm off the program's tip (${worst.first} mm off our own FK at frame 0)`);
+      }
+      playNote += `; ${robot.model} drawn within ${worst.tip.toExponential(1)} mm of the tip`;
+      console.log(`robot: ${robot.model} TCP within ${worst.tip.toExponential(2)} mm of the tip, ${worst.first.toExponential(2)} mm of our FK`);
+    }
     await page.evaluate(() => window.polyaxisViewer.playback.stop());
   }
   if (screenshot) {

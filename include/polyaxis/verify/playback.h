@@ -4,6 +4,8 @@
 // itself (the same reader as simulate and verify), not from the planner's points.
 #pragma once
 
+#include <array>
+
 #include <cstdint>
 #include <string_view>
 #include <vector>
@@ -21,6 +23,9 @@ struct PlaybackFrame {
   bool process_on = false;    // during the block
   bool rapid = false;         // G0
   std::int64_t layer = -1, region = -1;
+  // A robot cell (post abb-rapid): the arm's joints q1..q6 (degrees) at the end of the block.
+  bool has_arm = false;
+  std::array<float, 6> arm{};
 };
 
 // The frames of GCODE on MACHINE: one per motion block and one per dwell (the pose held), in
