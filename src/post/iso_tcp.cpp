@@ -18,9 +18,9 @@ using machine::MachinePose;
 // A rotary word as written (4 decimals).
 double written_deg(double v) { return std::round(v * 1e4) / 1e4; }
 
-class IsoTcp final : public detail::ToolSpaceDialect {
+class IsoTcp final : public detail::GcodeDialect {
  public:
-  IsoTcp(const machine::MachineConfig& m, const process::ProcessConfig& p, const GcodeOptions& o) : m_(m), p_(p), o_(o) {}
+  using GcodeDialect::GcodeDialect;
 
   core::Result<MachinePose> pose_of(const ProgramPoint& pt, const MachinePose* previous) override {
     // The axes as the controller will put them: the rotary words as written, and the linear axes
@@ -49,21 +49,9 @@ class IsoTcp final : public detail::ToolSpaceDialect {
     const bool feed = kind == detail::BlockKind::kFeed;
     std::string b = fmt::format("{} X{:.4f} Y{:.4f} Z{:.4f} {}{:.4f} C{:.4f}", feed ? "G1" : "G0", pt.tip_part_mm.x, pt.tip_part_mm.y,
                                 pt.tip_part_mm.z, tilt_, pose.a_or_b_deg, pose.c_deg);
-    if (feed) {
-      const double f = std::round(600.0 * feed_mm_s) / 10.0;  // mm/min, as the loop rounded it down
-      if (!last_feed_ || f != *last_feed_) b += fmt::format(" F{:.1f}", f);
-      last_feed_ = f;
-      if (o_.stats != nullptr) ++o_.stats->feed_blocks;
-    }
+    if (feed) b += feed_word(feed_mm_s);
     line(b);
     return {};
-  }
-
-  void switch_process(bool on) override {
-    if (on == on_) return;
-    line(on ? p_.process_on : p_.process_off);
-    if (on && p_.dwell_on_s > 0.0) line(fmt::format("G4 X{:.4f}", p_.dwell_on_s));
-    on_ = on;
   }
 
   void footer(std::uint64_t stall_splits) override {
@@ -73,41 +61,23 @@ class IsoTcp final : public detail::ToolSpaceDialect {
     line("%");
   }
 
-  std::size_t size() const override { return out_.size(); }
-  std::string take() { return std::move(out_); }
-
  private:
+  std::string dwell_block(double seconds) const override { return fmt::format("G4 X{:.4f}", seconds); }  // X: seconds (Fanuc)
   // Comment text: printable ASCII without parentheses, which would end the comment.
   static std::string text(std::string_view s) {
     std::string out = detail::comment_text(s);
     for (char& c : out) c = (c == '(' || c == ')') ? '?' : c;
     return out;
   }
-  void line(std::string_view s) {
-    out_ += s;
-    out_ += '\n';
-  }
-
-  const machine::MachineConfig& m_;
-  const process::ProcessConfig& p_;
-  const GcodeOptions& o_;
   const char tilt_ = machine::tilt_axis_letter(m_.kind);
-  std::string out_;
-  bool on_ = false;
-  std::optional<double> last_feed_;
 };
 
 }  // namespace
 
 core::Result<std::string> write_iso_tcp(const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                         std::span<const ProgramPoint> points, const GcodeOptions& options) {
-  if (points.empty()) return make_error(ErrorCode::kInfeasible, "no program points to write");
-  if (!machine::has_rotary_axes(machine.kind)) {
-    return make_error(ErrorCode::kUsage, fmt::format("ISO TCP (G43.4) needs a 5-axis machine; '{}' is {}", machine.name, machine::kinematics_name(machine.kind)));
-  }
   IsoTcp w(machine, process, options);
-  if (auto st = detail::write_tool_space(machine, points, options, w); !st) return st.error();
-  return w.take();
+  return detail::write_oriented("ISO TCP (G43.4)", machine, points, options, w);
 }
 
 }  // namespace polyaxis::post

@@ -127,6 +127,31 @@ std::string where(std::size_t i, const ProgramPoint& p) {
                      p.tip_part_mm.x, p.tip_part_mm.y, p.tip_part_mm.z, p.tool_axis_part.x, p.tool_axis_part.y, p.tool_axis_part.z);
 }
 
+void GcodeDialect::switch_process(bool on) {
+  if (on == on_) return;
+  line(on ? p_.process_on : p_.process_off);
+  if (on && p_.dwell_on_s > 0.0) line(dwell_block(p_.dwell_on_s));
+  on_ = on;
+}
+
+std::string GcodeDialect::feed_word(double feed_mm_s) {
+  if (o_.stats != nullptr) ++o_.stats->feed_blocks;
+  const double f = std::round(600.0 * feed_mm_s) / 10.0;  // mm/min, as the loop rounded it down
+  const bool same = last_feed_ && f == *last_feed_;
+  last_feed_ = f;
+  return same ? std::string() : fmt::format(" F{:.1f}", f);
+}
+
+core::Result<std::string> write_oriented(std::string_view what, const machine::MachineConfig& machine, std::span<const ProgramPoint> points,
+                                         const GcodeOptions& options, GcodeDialect& dialect) {
+  if (points.empty()) return make_error(ErrorCode::kInfeasible, "no program points to write");
+  if (!machine::has_rotary_axes(machine.kind)) {
+    return make_error(ErrorCode::kUsage, fmt::format("{} needs a 5-axis machine; '{}' is {}", what, machine.name, machine::kinematics_name(machine.kind)));
+  }
+  if (auto st = write_tool_space(machine, points, options, dialect); !st) return st.error();
+  return dialect.take();
+}
+
 core::Status write_tool_space(const machine::MachineConfig& machine, std::span<const ProgramPoint> points, const GcodeOptions& options,
                               ToolSpaceDialect& dialect) {
   Loop loop(machine, options, dialect);

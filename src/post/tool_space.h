@@ -13,6 +13,7 @@
 #include "polyaxis/machine/kinematics.h"
 #include "polyaxis/post/gcode.h"
 #include "polyaxis/post/program.h"
+#include "polyaxis/process/process.h"
 
 namespace polyaxis::post::detail {
 
@@ -39,6 +40,43 @@ class ToolSpaceDialect {
   virtual void footer(std::uint64_t stall_splits) = 0;
   virtual std::size_t size() const = 0;
 };
+
+// What the G-code dialects of the loop share (Sinumerik TRAORI, ISO TCP): the program's text by
+// lines, the process switched by the process file's codes with a dwell after switching on, the
+// feed word where the feed changes, and the writer that checks the machine has rotary axes.
+class GcodeDialect : public ToolSpaceDialect {
+ public:
+  GcodeDialect(const machine::MachineConfig& m, const process::ProcessConfig& p, const GcodeOptions& o) : m_(m), p_(p), o_(o) {}
+  void switch_process(bool on) override;
+  std::size_t size() const override { return out_.size(); }
+  std::string take() { return std::move(out_); }
+
+ protected:
+  // The dwell of SECONDS in the dialect ("G4 F0.5000", "G4 X0.5000").
+  virtual std::string dwell_block(double seconds) const = 0;
+  void line(std::string_view s) {
+    out_ += s;
+    out_ += '\n';
+  }
+  // " F<mm/min>" for FEED_MM_S (as the loop rounded it down) where it differs from the last F
+  // written, else ""; counts the feed block.
+  std::string feed_word(double feed_mm_s);
+
+  const machine::MachineConfig& m_;
+  const process::ProcessConfig& p_;
+  const GcodeOptions& o_;
+
+ private:
+  std::string out_;
+  bool on_ = false;
+  std::optional<double> last_feed_;
+};
+
+// Writes POINTS through DIALECT (a GcodeDialect of a post named WHAT that orients the tool):
+// kInfeasible for an empty program, kUsage on a machine without rotary axes, else
+// write_tool_space's errors.
+core::Result<std::string> write_oriented(std::string_view what, const machine::MachineConfig& machine, std::span<const ProgramPoint> points,
+                                         const GcodeOptions& options, GcodeDialect& dialect);
 
 // The tip and the unit tool vector as 4 and 6 decimals write them.
 core::Vec3 written_tip(core::Vec3 p);

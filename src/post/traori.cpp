@@ -17,9 +17,9 @@ using core::make_error;
 using core::Vec3;
 using machine::MachinePose;
 
-class Traori final : public detail::ToolSpaceDialect {
+class Traori final : public detail::GcodeDialect {
  public:
-  Traori(const machine::MachineConfig& m, const process::ProcessConfig& p, const GcodeOptions& o) : m_(m), p_(p), o_(o) {}
+  using GcodeDialect::GcodeDialect;
 
   core::Result<MachinePose> pose_of(const ProgramPoint& pt, const MachinePose* previous) override {
     // The inverse kinematics of the words as written (what the controller and the read-back see).
@@ -45,21 +45,9 @@ class Traori final : public detail::ToolSpaceDialect {
     const Vec3 a = core::normalized(pt.tool_axis_part);
     std::string b = fmt::format("{} X{:.4f} Y{:.4f} Z{:.4f} A3={:.6f} B3={:.6f} C3={:.6f}", feed ? "G1" : "G0", pt.tip_part_mm.x,
                                 pt.tip_part_mm.y, pt.tip_part_mm.z, a.x, a.y, a.z);
-    if (feed) {
-      const double f = std::round(600.0 * feed_mm_s) / 10.0;  // mm/min, as the loop rounded it down
-      if (!last_feed_ || f != *last_feed_) b += fmt::format(" F{:.1f}", f);
-      last_feed_ = f;
-      if (o_.stats != nullptr) ++o_.stats->feed_blocks;
-    }
+    if (feed) b += feed_word(feed_mm_s);
     line(b);
     return {};
-  }
-
-  void switch_process(bool on) override {
-    if (on == on_) return;
-    line(on ? p_.process_on : p_.process_off);
-    if (on && p_.dwell_on_s > 0.0) line(fmt::format("G4 F{:.4f}", p_.dwell_on_s));
-    on_ = on;
   }
 
   void footer(std::uint64_t stall_splits) override {
@@ -70,34 +58,16 @@ class Traori final : public detail::ToolSpaceDialect {
     line("M30");
   }
 
-  std::size_t size() const override { return out_.size(); }
-  std::string take() { return std::move(out_); }
-
  private:
-  void line(std::string_view s) {
-    out_ += s;
-    out_ += '\n';
-  }
-
-  const machine::MachineConfig& m_;
-  const process::ProcessConfig& p_;
-  const GcodeOptions& o_;
-  std::string out_;
-  bool on_ = false;
-  std::optional<double> last_feed_;
+  std::string dwell_block(double seconds) const override { return fmt::format("G4 F{:.4f}", seconds); }  // F: seconds
 };
 
 }  // namespace
 
 core::Result<std::string> write_traori(const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                        std::span<const ProgramPoint> points, const GcodeOptions& options) {
-  if (points.empty()) return make_error(ErrorCode::kInfeasible, "no program points to write");
-  if (!machine::has_rotary_axes(machine.kind)) {
-    return make_error(ErrorCode::kUsage, fmt::format("TRAORI needs a 5-axis machine; '{}' is {}", machine.name, machine::kinematics_name(machine.kind)));
-  }
   Traori w(machine, process, options);
-  if (auto st = detail::write_tool_space(machine, points, options, w); !st) return st.error();
-  return w.take();
+  return detail::write_oriented("TRAORI", machine, points, options, w);
 }
 
 }  // namespace polyaxis::post

@@ -9,13 +9,12 @@
 #include <cstdint>
 #include <string_view>
 
-#include "fuzz_require.h"
+#include "program_reader_checks.h"
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
 #include "polyaxis/verify/playback.h"
 #include "polyaxis/verify/simulate.h"
 
-using polyaxis::fuzz::require;
 
 namespace {
 
@@ -61,21 +60,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const machine::MachineConfig m = machine_for(data[0]);
   const process::ProcessConfig p = process::parse_process(process::default_process_json(), "default").value();
   const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
-  auto sim = verify::simulate(m, text, {}, &p);
-  if (!sim) {
-    require(sim.error().code == core::ErrorCode::kInvalidInput || sim.error().code == core::ErrorCode::kMachineLimit);
-  } else {
-    require(std::isfinite(sim.value().path_length_mm) && sim.value().path_length_mm >= 0.0);
-  }
-  auto frames = verify::playback_frames(m, p, text);
-  require(frames.ok() == sim.ok());
-  if (!frames) return 0;
-  double last = 0.0;
-  for (const auto& f : frames.value()) {
-    require(std::isfinite(f.pose.x_mm) && std::isfinite(f.pose.y_mm) && std::isfinite(f.pose.z_mm) && std::isfinite(f.pose.a_or_b_deg) &&
-            std::isfinite(f.pose.c_deg));
-    require(std::isfinite(f.time_s) && f.time_s >= last);
-    last = f.time_s;
-  }
+  polyaxis::fuzz::check_program_reader(m, p, text);
   return 0;
 }

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "fuzz_require.h"
+#include "program_reader_checks.h"
 #include "polyaxis/io/zip_archive.h"
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/mesh/mesh.h"
@@ -72,21 +72,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     require(edited.ok());
     package = std::move(edited.value());
   }
-  auto sim = verify::simulate(m, package, {}, &p);
-  if (!sim) {
-    require(sim.error().code == core::ErrorCode::kInvalidInput || sim.error().code == core::ErrorCode::kMachineLimit);
-  } else {
-    require(std::isfinite(sim.value().path_length_mm) && sim.value().path_length_mm >= 0.0);
-  }
-  auto frames = verify::playback_frames(m, p, package);
-  require(frames.ok() == sim.ok());
-  if (!frames) return 0;
-  double last = 0.0;
-  for (const auto& f : frames.value()) {
-    require(std::isfinite(f.pose.x_mm) && std::isfinite(f.pose.y_mm) && std::isfinite(f.pose.z_mm) && std::isfinite(f.pose.a_or_b_deg) &&
-            std::isfinite(f.pose.c_deg));
-    require(std::isfinite(f.time_s) && f.time_s >= last);
-    last = f.time_s;
-  }
+  polyaxis::fuzz::check_program_reader(m, p, package);
   return 0;
 }
