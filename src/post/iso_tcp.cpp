@@ -47,8 +47,8 @@ class IsoTcp final : public detail::GcodeDialect {
 
   core::Status block(detail::BlockKind kind, const ProgramPoint& pt, const MachinePose& pose, double feed_mm_s, const ProgramPoint*) override {
     const bool feed = kind == detail::BlockKind::kFeed;
-    std::string b = fmt::format("{} X{:.4f} Y{:.4f} Z{:.4f} {}{:.4f} C{:.4f}", feed ? "G1" : "G0", pt.tip_part_mm.x, pt.tip_part_mm.y,
-                                pt.tip_part_mm.z, tilt_, pose.a_or_b_deg, pose.c_deg);
+    const core::Vec3 t = detail::written_tip(pt.tip_part_mm);  // the values the loop timed (traori.cpp says why)
+    std::string b = fmt::format("{} X{:.4f} Y{:.4f} Z{:.4f} {}{:.4f} C{:.4f}", feed ? "G1" : "G0", t.x, t.y, t.z, tilt_, pose.a_or_b_deg, pose.c_deg);
     if (feed) b += feed_word(feed_mm_s);
     line(b);
     return {};

@@ -111,10 +111,11 @@ class Loop {
 }  // namespace
 
 Vec3 written_tip(Vec3 p) { return {std::round(p.x * 1e4) / 1e4, std::round(p.y * 1e4) / 1e4, std::round(p.z * 1e4) / 1e4}; }
-Vec3 written_vector(Vec3 a) {
+Vec3 rounded_vector(Vec3 a) {
   a = core::normalized(a);
-  return core::normalized(Vec3{std::round(a.x * 1e6) / 1e6, std::round(a.y * 1e6) / 1e6, std::round(a.z * 1e6) / 1e6});
+  return Vec3{std::round(a.x * 1e6) / 1e6, std::round(a.y * 1e6) / 1e6, std::round(a.z * 1e6) / 1e6};
 }
+Vec3 written_vector(Vec3 a) { return core::normalized(rounded_vector(a)); }
 
 std::string comment_text(std::string_view s) {
   std::string out;

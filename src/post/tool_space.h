@@ -78,9 +78,11 @@ class GcodeDialect : public ToolSpaceDialect {
 core::Result<std::string> write_oriented(std::string_view what, const machine::MachineConfig& machine, std::span<const ProgramPoint> points,
                                          const GcodeOptions& options, GcodeDialect& dialect);
 
-// The tip and the unit tool vector as 4 and 6 decimals write them.
+// The tip and the unit tool vector as 4 and 6 decimals write them (written_vector normalised again;
+// rounded_vector the 6-decimal components themselves, which the dialects print).
 core::Vec3 written_tip(core::Vec3 p);
 core::Vec3 written_vector(core::Vec3 a);
+core::Vec3 rounded_vector(core::Vec3 a);
 
 // "move to point I (layer L region R, tip (...), axis (...))", for messages.
 std::string where(std::size_t i, const ProgramPoint& p);

@@ -153,7 +153,7 @@ class Toolpath3mf final : public detail::ToolSpaceDialect {
     std::array<std::int32_t, 3> out{};
     const double c[3] = {p.x, p.y, p.z};
     for (int k = 0; k < 3; ++k) {
-      const double v = std::round(c[k] / kToolpathUnitMm);
+      const double v = std::round(c[k] * 1e4);  // as detail::written_tip rounds: 1e4 units of kToolpathUnitMm a mm
       if (!(std::abs(v) <= static_cast<double>(std::numeric_limits<std::int32_t>::max()))) {
         return make_error(ErrorCode::kInfeasible, fmt::format("the tip ({:.4f}, {:.4f}, {:.4f}) mm is beyond the ±214 m that the 3MF toolpath's "
                                                               "32-bit coordinates hold at 0.1 µm",

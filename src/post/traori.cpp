@@ -42,9 +42,11 @@ class Traori final : public detail::GcodeDialect {
 
   core::Status block(detail::BlockKind kind, const ProgramPoint& pt, const MachinePose&, double feed_mm_s, const ProgramPoint*) override {
     const bool feed = kind == detail::BlockKind::kFeed;
-    const Vec3 a = core::normalized(pt.tool_axis_part);
-    std::string b = fmt::format("{} X{:.4f} Y{:.4f} Z{:.4f} A3={:.6f} B3={:.6f} C3={:.6f}", feed ? "G1" : "G0", pt.tip_part_mm.x,
-                                pt.tip_part_mm.y, pt.tip_part_mm.z, a.x, a.y, a.z);
+    // The words are the very values the loop timed and pose_of solved (detail::written_tip and
+    // the vector rounded to 6 decimals): printing the raw values would round half-way cases
+    // otherwise, and a 0.1 µm difference on a short block moves its axes' speed past a maximum.
+    const Vec3 t = detail::written_tip(pt.tip_part_mm), a = detail::rounded_vector(pt.tool_axis_part);
+    std::string b = fmt::format("{} X{:.4f} Y{:.4f} Z{:.4f} A3={:.6f} B3={:.6f} C3={:.6f}", feed ? "G1" : "G0", t.x, t.y, t.z, a.x, a.y, a.z);
     if (feed) b += feed_word(feed_mm_s);
     line(b);
     return {};

@@ -202,6 +202,38 @@ inline RawMesh cylinder(core::Vec3 base, core::Vec3 axis, double r, double lengt
   return mesh;
 }
 
+// A leaning tower: circles of radius R whose centres move along +X by tan(LEAN_DEG) per mm of height
+// up to LEAN_H, then rise straight to H; N sides, a ring every mm, both ends capped. Its +X side
+// overhangs by LEAN_DEG, then stands vertical.
+inline RawMesh leaning_tower(double r, double lean_deg, double lean_h, double h, std::uint32_t n) {
+  RawMesh m;
+  const auto rings = static_cast<std::uint32_t>(std::ceil(h)) + 1;
+  const double pi = 3.14159265358979323846, t = std::tan(lean_deg * pi / 180.0);
+  for (std::uint32_t k = 0; k < rings; ++k) {
+    const double z = std::min(h, static_cast<double>(k)), cx = t * std::min(z, lean_h);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const double a = 2.0 * pi * i / n;
+      m.points.push_back({cx + r * std::cos(a), r * std::sin(a), z});
+    }
+  }
+  for (std::uint32_t k = 0; k + 1 < rings; ++k) {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint32_t a = k * n + i, b = k * n + (i + 1) % n;
+      m.triangles.push_back({a, b, b + n});
+      m.triangles.push_back({a, b + n, a + n});
+    }
+  }
+  const auto bottom = static_cast<std::uint32_t>(m.points.size());
+  const std::uint32_t top = bottom + 1;
+  m.points.push_back({0.0, 0.0, 0.0});
+  m.points.push_back({t * std::min(h, lean_h), 0.0, h});
+  for (std::uint32_t i = 0; i < n; ++i) {
+    m.triangles.push_back({bottom, static_cast<std::uint32_t>((i + 1) % n), i});
+    m.triangles.push_back({top, (rings - 1) * n + i, (rings - 1) * n + (i + 1) % n});
+  }
+  return m;
+}
+
 // A spherical cap on the XY plane: the sphere of radius R cut at height H (0 < H <= R) above its
 // centre's side: its base disc at z = 0 and its top at z = H; N segments around, M rings.
 inline RawMesh spherical_cap(double r, double h, std::uint32_t n, std::uint32_t m) {
