@@ -262,7 +262,7 @@ class Reader {
   core::Result<PoseIn> pose(const xmlNode* n, bool six, const std::string& where) {
     std::int64_t c[3];
     for (int k = 0; k < 3; ++k) {
-      const auto s = attr(n, std::string_view("xyz" + k, 1));
+      const auto s = attr(n, std::string_view("xyz").substr(static_cast<std::size_t>(k), 1));
       if (!s || !number(*s, c[k]) || c[k] < INT32_MIN || c[k] > INT32_MAX) return invalid(fmt::format("{}: {} is missing or not a 32-bit integer", where, "xyz"[k]));
     }
     PoseIn out;
@@ -271,7 +271,7 @@ class Reader {
     if (six) {
       double q[4];
       for (int k = 0; k < 4; ++k) {
-        const auto s = attr(n, std::string_view("ijkw" + k, 1));
+        const auto s = attr(n, std::string_view("ijkw").substr(static_cast<std::size_t>(k), 1));
         if (!s || !number(*s, q[k])) return invalid(fmt::format("{}: quaternion {} is missing or not a number", where, "ijkw"[k]));
       }
       if (!(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] > kMinQuaternionNorm2)) {
