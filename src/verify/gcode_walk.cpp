@@ -143,130 +143,152 @@ Vec3 axis_at(const machine::MachineConfig& m, MachinePose pose) {
 
 }  // namespace
 
-core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode, const process::ProcessConfig* process,
-                        const WalkCallbacks& cb, bool* program_end_out) {
-  if (m.post == machine::PostDialect::kAbbRapid) return walk_rapid(m, gcode, process, cb, program_end_out);
-  if (m.post == machine::PostDialect::k3mfToolpath) return walk_toolpath_3mf(m, gcode, cb, program_end_out);
-  const bool five = machine::has_rotary_axes(m.kind);
-  const char tilt = machine::tilt_axis_letter(m.kind);
-  bool program_end = false;
-  std::int64_t layer = -1, region = -1;
-  MachinePose pos{};
-  bool have_position = false;  // false until the first motion block: the machine is anywhere
-  int motion_mode = -1;        // 0 or 1 once set
-  bool inverse_time = false;
-  double feed = 0.0;
-  bool process_on = false;
-  // Sinumerik TRAORI: the tip and the tool vector (modal), and whether TRAORI is on.
-  const bool sinumerik = m.post == machine::PostDialect::kSiemensTraori;
-  bool traori = false;
-  // ISO under tool centre point control (post iso-tcp): X Y Z the tip once G43.4 is on.
-  const bool iso_tcp = m.post == machine::PostDialect::kIsoTcp;
-  bool tcp = false;
-  MachinePose angles{};
-  Vec3 tip{}, vec{0.0, 0.0, 1.0};
+namespace {
 
-  std::uint64_t line_no = 0;
-  std::size_t at = 0;
-  while (at <= gcode.size() && !program_end) {
-    const std::size_t nl = gcode.find('\n', at);
-    const std::string_view line = gcode.substr(at, nl == std::string_view::npos ? std::string_view::npos : nl - at);
-    at = nl == std::string_view::npos ? gcode.size() + 1 : nl + 1;
-    ++line_no;
-    auto bad = [&](const std::string& why) {
-      return make_error(ErrorCode::kInvalidInput, fmt::format("G-code line {}: {}: {}", line_no, why, line));
-    };
-    std::string why;
-    if (sinumerik) {
+// One block's words as read (the modal state is the walker's).
+struct Block {
+  std::optional<int> motion;                       // G0 or G1
+  bool dwell = false;                              // G4
+  std::array<std::optional<double>, 6> axis{};     // X Y Z A B C
+  std::optional<double> f_word;
+  bool vector_word = false;
+  std::array<std::optional<double>, 3> vector{};   // A3= B3= C3=
+};
+
+// The G-code dialects' reader: the lines in order, their modal state, and a move for each motion
+// block in the machine's dialect (joint words, TRAORI's tip and vector, or the tip and rotary
+// words under G43.4).
+class GcodeWalker {
+ public:
+  GcodeWalker(const machine::MachineConfig& m, const process::ProcessConfig* process, const WalkCallbacks& cb)
+      : m_(m), process_(process), cb_(cb) {}
+
+  core::Status run(std::string_view gcode, bool* program_end_out) {
+    std::size_t at = 0;
+    while (at <= gcode.size() && !program_end_) {
+      const std::size_t nl = gcode.find('\n', at);
+      line_ = gcode.substr(at, nl == std::string_view::npos ? std::string_view::npos : nl - at);
+      at = nl == std::string_view::npos ? gcode.size() + 1 : nl + 1;
+      ++line_no_;
+      if (auto st = read_line(); !st) return st;
+    }
+    if (program_end_out != nullptr) *program_end_out = program_end_;
+    return {};
+  }
+
+ private:
+  core::Error bad(const std::string& why) const {
+    return make_error(ErrorCode::kInvalidInput, fmt::format("G-code line {}: {}: {}", line_no_, why, line_));
+  }
+
+  // LINE without its leading and trailing blanks.
+  static std::string_view trimmed(std::string_view word) {
+    while (!word.empty() && (word.back() == ' ' || word.back() == '\t' || word.back() == '\r')) word.remove_suffix(1);
+    while (!word.empty() && (word.front() == ' ' || word.front() == '\t')) word.remove_prefix(1);
+    return word;
+  }
+
+  core::Status read_line() {
+    if (sinumerik_) {
       // TRAORI's control words stand alone on their lines.
-      std::string_view word = line.substr(0, line.find(';'));
-      while (!word.empty() && (word.back() == ' ' || word.back() == '\t' || word.back() == '\r')) word.remove_suffix(1);
-      while (!word.empty() && (word.front() == ' ' || word.front() == '\t')) word.remove_prefix(1);
+      const std::string_view word = trimmed(line_.substr(0, line_.find(';')));
       if (word == "TRAORI" || word == "TRAFOOF") {
-        traori = word == "TRAORI";
-        continue;
+        traori_ = word == "TRAORI";
+        return {};
       }
-      if (word == "ORIWKS" || word == "ORIVECT") continue;
+      if (word == "ORIWKS" || word == "ORIVECT") return {};
     }
-    {
-      // A tape's "%" start and end lines.
-      std::string_view word = line;
-      while (!word.empty() && (word.back() == ' ' || word.back() == '\t' || word.back() == '\r')) word.remove_suffix(1);
-      while (!word.empty() && (word.front() == ' ' || word.front() == '\t')) word.remove_prefix(1);
-      if (word == "%") continue;
-    }
-    const auto words = tokenize(line, why, sinumerik);
+    if (trimmed(line_) == "%") return {};  // a tape's start and end lines
+    std::string why;
+    const auto words = tokenize(line_, why, sinumerik_);
     if (!words) return bad(why);
     if (words->empty()) {
-      layer_comment(line, layer, region);
-      continue;
+      layer_comment(line_, layer_, region_);
+      return {};
     }
-
-    if (process != nullptr) {
+    if (process_ != nullptr) {
       const std::string text = block_text(*words);
-      if (text == process->process_on) process_on = true;
-      if (text == process->process_off) process_on = false;
+      if (text == process_->process_on) process_on_ = true;
+      if (text == process_->process_off) process_on_ = false;
     }
-    std::optional<int> block_motion;
-    bool dwell = false;
-    std::array<std::optional<double>, 6> axis{};  // X Y Z A B C
-    std::optional<double> f_word;
-    bool vector_word = false;
-    std::array<std::optional<double>, 3> vector_words{};  // A3= B3= C3=
-    for (const Word& w : *words) {
+    Block b;
+    if (auto st = read_words(*words, b); !st) return st;
+    // A Sinumerik dwell gives its seconds as F (the modal feed is kept).
+    if (b.f_word && !(sinumerik_ && b.dwell)) feed_ = *b.f_word;
+    if (b.motion) motion_mode_ = *b.motion;
+    if (b.dwell) {
+      double seconds = 0.0;
+      for (const Word& w : *words) {
+        if (w.letter == (sinumerik_ ? 'F' : iso_tcp_ ? 'X' : 'P')) seconds = w.value;
+      }
+      if (cb_.dwell) cb_.dwell(line_no_, seconds, process_on_);
+      return {};
+    }
+    const bool has_axis = b.vector_word || std::any_of(b.axis.begin(), b.axis.end(), [](const auto& v) { return v.has_value(); });
+    if (!has_axis) return {};
+    if (motion_mode_ < 0) return bad("axis words without G0 or G1 in effect");
+    if (sinumerik_) return traori_move(b);
+    if (iso_tcp_) return tcp_move(b);
+    return joint_move(b);
+  }
+
+  core::Status read_g(const Word& w, Block& b) {
+    const double g = w.value;
+    if (g == 0.0 || g == 1.0) {
+      if (b.motion || b.dwell) return bad("two motion codes in one block");
+      b.motion = static_cast<int>(g);
+    } else if (g == 4.0) {
+      if (b.motion) return bad("two motion codes in one block");
+      b.dwell = true;
+    } else if (g == 93.0) {
+      inverse_time_ = true;
+    } else if (g == 94.0) {
+      inverse_time_ = false;
+    } else if (g == 17.0 || g == 21.0 || g == 90.0 || (sinumerik_ && g == 71.0)) {
+      // the only plane, unit and distance modes the writer uses
+    } else if (iso_tcp_ && (w.text.substr(1) == "43.4" || g == 49.0)) {
+      tcp_ = g != 49.0;
+    } else {
+      return bad(fmt::format("G{} is not supported (the simulator reads G0 G1 G4 G17 G21 G90 G93 G94{})", w.text.substr(1),
+                             iso_tcp_ ? " G43.4 G49" : ""));
+    }
+    return {};
+  }
+
+  core::Status read_words(const std::vector<Word>& words, Block& b) {
+    for (const Word& w : words) {
       switch (w.letter) {
-        case 'G': {
-          const double g = w.value;
-          if (g == 0.0 || g == 1.0) {
-            if (block_motion || dwell) return bad("two motion codes in one block");
-            block_motion = static_cast<int>(g);
-          } else if (g == 4.0) {
-            if (block_motion) return bad("two motion codes in one block");
-            dwell = true;
-          } else if (g == 93.0) {
-            inverse_time = true;
-          } else if (g == 94.0) {
-            inverse_time = false;
-          } else if (g == 17.0 || g == 21.0 || g == 90.0 || (sinumerik && g == 71.0)) {
-            // the only plane, unit and distance modes the writer uses
-          } else if (iso_tcp && (w.text.substr(1) == "43.4" || g == 49.0)) {
-            tcp = g != 49.0;
-          } else {
-            return bad(fmt::format("G{} is not supported (the simulator reads G0 G1 G4 G17 G21 G90 G93 G94{})", w.text.substr(1),
-                                   iso_tcp ? " G43.4 G49" : ""));
-          }
+        case 'G':
+          if (auto st = read_g(w, b); !st) return st;
           break;
-        }
         case 'M':
-          if (w.value == 2.0 || w.value == 30.0) program_end = true;
+          if (w.value == 2.0 || w.value == 30.0) program_end_ = true;
           break;
-        case 'X': axis[0] = w.value; break;
-        case 'Y': axis[1] = w.value; break;
-        case 'Z': axis[2] = w.value; break;
+        case 'X': b.axis[0] = w.value; break;
+        case 'Y': b.axis[1] = w.value; break;
+        case 'Z': b.axis[2] = w.value; break;
         case 'a':
         case 'b':
         case 'c':
-          if (!traori) return bad("a tool vector word (A3= B3= C3=) without TRAORI");
-          vector_words[static_cast<std::size_t>(w.letter - 'a')] = w.value;
-          vector_word = true;
+          if (!traori_) return bad("a tool vector word (A3= B3= C3=) without TRAORI");
+          b.vector[static_cast<std::size_t>(w.letter - 'a')] = w.value;
+          b.vector_word = true;
           break;
         case 'A':
         case 'B':
-        case 'C': {
-          if (sinumerik) return bad(fmt::format("{} word: under TRAORI the program gives the tool vector (A3= B3= C3=), not the axes", w.letter));
-          if (!five || (w.letter != 'C' && w.letter != tilt)) {
-            return bad(fmt::format("{} word, but machine '{}' ({}) has no {} axis", w.letter, m.name,
-                                   machine::kinematics_name(m.kind), w.letter));
+        case 'C':
+          if (sinumerik_) return bad(fmt::format("{} word: under TRAORI the program gives the tool vector (A3= B3= C3=), not the axes", w.letter));
+          if (!five_ || (w.letter != 'C' && w.letter != tilt_)) {
+            return bad(fmt::format("{} word, but machine '{}' ({}) has no {} axis", w.letter, m_.name, machine::kinematics_name(m_.kind), w.letter));
           }
-          axis[static_cast<std::size_t>(3 + (w.letter - 'A'))] = w.value;
+          b.axis[static_cast<std::size_t>(3 + (w.letter - 'A'))] = w.value;
           break;
-        }
         case 'F':
           if (!(w.value > 0.0)) return bad("F must be > 0");
-          f_word = w.value;
+          b.f_word = w.value;
           break;
         case 'H':
-          if (!iso_tcp) return bad("unsupported word 'H'");
+          if (!iso_tcp_) return bad("unsupported word 'H'");
           break;
         case 'P':
         case 'S':
@@ -274,147 +296,142 @@ core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode,
         default: return bad(fmt::format("unsupported word '{}'", w.letter));
       }
     }
-    // A Sinumerik dwell gives its seconds as F (the modal feed is kept).
-    if (f_word && !(sinumerik && dwell)) feed = *f_word;
-    if (block_motion) motion_mode = *block_motion;
-    const bool has_axis = vector_word || std::any_of(axis.begin(), axis.end(), [](const auto& v) { return v.has_value(); });
-    if (dwell) {
-      double seconds = 0.0;
-      for (const Word& w : *words) {
-        if (w.letter == (sinumerik ? 'F' : iso_tcp ? 'X' : 'P')) seconds = w.value;
-      }
-      if (cb.dwell) cb.dwell(line_no, seconds, process_on);
-      continue;
-    }
-    if (!has_axis) continue;
-    if (motion_mode < 0) return bad("axis words without G0 or G1 in effect");
-
-    if (sinumerik) {
-      if (!traori) return bad("motion without TRAORI: the program gives the tip and the tool vector");
-      const Vec3 tip_from = tip, vec_from = vec;
-      if (axis[0]) tip.x = *axis[0];
-      if (axis[1]) tip.y = *axis[1];
-      if (axis[2]) tip.z = *axis[2];
-      if (vector_words[0]) vec.x = *vector_words[0];
-      if (vector_words[1]) vec.y = *vector_words[1];
-      if (vector_words[2]) vec.z = *vector_words[2];
-      if (!(core::norm(vec) > 0.0)) return bad("a zero tool vector");
-      auto target = machine::inverse(m, tip, vec, have_position ? &pos : nullptr);
-      if (!target) return make_error(target.error().code, fmt::format("G-code line {}: {}: {}", line_no, target.error().message, line));
-      const bool rapid = motion_mode == 0;
-      if (!rapid && !(feed > 0.0)) return bad("feed move without a feed rate (F)");
-      if (cb.target) cb.target(line_no, target.value(), line);
-      WalkMove mv;
-      mv.line = line_no, mv.from = pos, mv.to = target.value(), mv.rapid = rapid, mv.f_word = f_word, mv.feed = feed;
-      mv.process_on = process_on, mv.layer = layer, mv.region = region;
-      mv.tool_space = true;
-      mv.tip_from = tip_from, mv.tip_to = tip, mv.axis_from = core::normalized(vec_from), mv.axis_to = core::normalized(vec);
-      if (!have_position) {
-        mv.from_known = false;
-        if (cb.move) cb.move(mv);
-        pos = target.value();
-        have_position = true;
-        continue;
-      }
-      const double tip_mm = core::norm(tip - tip_from);
-      const double turn_deg = std::atan2(core::norm(core::cross(mv.axis_from, mv.axis_to)), core::dot(mv.axis_from, mv.axis_to)) * 180.0 / M_PI;
-      if (tip_mm == 0.0 && turn_deg == 0.0) continue;
-      const MachinePose& to = target.value();
-      mv.l_xyz_mm = norm(Vec3{to.x_mm - pos.x_mm, to.y_mm - pos.y_mm, to.z_mm - pos.z_mm});
-      mv.d_tilt_deg = std::abs(to.a_or_b_deg - pos.a_or_b_deg);
-      mv.d_c_deg = std::abs(to.c_deg - pos.c_deg);
-      // F is the tip's path feed; a block turning the tool alone moves at its angle per minute.
-      if (!rapid) mv.time_min = tip_mm > 0.0 ? tip_mm / feed : turn_deg / feed;
-      if (cb.move) cb.move(mv);
-      pos = to;
-      continue;
-    }
-
-    if (iso_tcp) {
-      if (!tcp) return bad("motion without G43.4: the program gives the tip, which needs tool centre point control");
-      const Vec3 tip_from = tip;
-      const MachinePose angles_from = angles;
-      if (axis[0]) tip.x = *axis[0];
-      if (axis[1]) tip.y = *axis[1];
-      if (axis[2]) tip.z = *axis[2];
-      if (axis[3]) angles.a_or_b_deg = *axis[3];
-      if (axis[4]) angles.a_or_b_deg = *axis[4];
-      if (axis[5]) angles.c_deg = *axis[5];
-      const auto joints = machine::joints_for_tip(m, tip, angles);
-      if (!joints) return bad("no linear axis pose puts the tip there");
-      const bool rapid = motion_mode == 0;
-      if (!rapid && !(feed > 0.0)) return bad("feed move without a feed rate (F)");
-      if (cb.target) cb.target(line_no, *joints, line);
-      WalkMove mv;
-      mv.line = line_no, mv.from = pos, mv.to = *joints, mv.rapid = rapid, mv.f_word = f_word, mv.feed = feed;
-      mv.process_on = process_on, mv.layer = layer, mv.region = region;
-      mv.tool_space = true, mv.rotary_linear = true;
-      mv.tip_from = tip_from, mv.tip_to = tip, mv.axis_from = axis_at(m, angles_from), mv.axis_to = axis_at(m, angles);
-      if (!have_position) {
-        mv.from_known = false;
-        if (cb.move) cb.move(mv);
-        pos = *joints;
-        have_position = true;
-        continue;
-      }
-      const double tip_mm = core::norm(tip - tip_from);
-      mv.l_xyz_mm = norm(Vec3{joints->x_mm - pos.x_mm, joints->y_mm - pos.y_mm, joints->z_mm - pos.z_mm});
-      mv.d_tilt_deg = std::abs(joints->a_or_b_deg - pos.a_or_b_deg);
-      mv.d_c_deg = std::abs(joints->c_deg - pos.c_deg);
-      const double l_rot = std::hypot(mv.d_tilt_deg, mv.d_c_deg);
-      if (tip_mm == 0.0 && l_rot == 0.0) continue;
-      // F is the tip's feed over the part; a block turning the axes alone moves at degrees per minute.
-      if (!rapid) mv.time_min = tip_mm > 0.0 ? tip_mm / feed : l_rot / feed;
-      if (cb.move) cb.move(mv);
-      pos = *joints;
-      continue;
-    }
-
-    MachinePose target = pos;
-    if (axis[0]) target.x_mm = *axis[0];
-    if (axis[1]) target.y_mm = *axis[1];
-    if (axis[2]) target.z_mm = *axis[2];
-    if (axis[3]) target.a_or_b_deg = *axis[3];
-    if (axis[4]) target.a_or_b_deg = *axis[4];
-    if (axis[5]) target.c_deg = *axis[5];
-
-    const bool rapid = motion_mode == 0;
-    if (!rapid && (inverse_time ? !f_word : !(feed > 0.0))) {
-      return bad(inverse_time ? "G93 needs F on every feed move" : "feed move without a feed rate (F)");
-    }
-    if (cb.target) cb.target(line_no, target, line);
-    WalkMove mv;
-    mv.line = line_no;
-    mv.from = pos;
-    mv.to = target;
-    mv.rapid = rapid;
-    mv.f_word = f_word;
-    mv.feed = feed;
-    mv.inverse_time = inverse_time;
-    mv.process_on = process_on;
-    mv.layer = layer;
-    mv.region = region;
-    if (!have_position) {
-      mv.from_known = false;
-      if (cb.move) cb.move(mv);
-      pos = target;
-      have_position = true;
-      continue;
-    }
-    mv.l_xyz_mm = norm(Vec3{target.x_mm - pos.x_mm, target.y_mm - pos.y_mm, target.z_mm - pos.z_mm});
-    mv.d_tilt_deg = std::abs(target.a_or_b_deg - pos.a_or_b_deg);
-    mv.d_c_deg = std::abs(target.c_deg - pos.c_deg);
-    const double l_rot = std::hypot(mv.d_tilt_deg, mv.d_c_deg);
-    if (mv.l_xyz_mm == 0.0 && l_rot == 0.0) continue;
-    if (!rapid) {
-      // Duration (minutes) as LinuxCNC reads F: XYZ path speed, else rotary speed, or 1/F in G93.
-      mv.time_min = inverse_time ? 1.0 / *f_word : (mv.l_xyz_mm > 0.0 ? mv.l_xyz_mm / feed : l_rot / feed);
-    }
-    if (cb.move) cb.move(mv);
-    pos = target;
+    return {};
   }
-  if (program_end_out != nullptr) *program_end_out = program_end;
-  return {};
+
+  // The move to TO from where the machine is, with the block's modal state.
+  WalkMove move_to(const MachinePose& to, const Block& b) const {
+    WalkMove mv;
+    mv.line = line_no_, mv.from = pos_, mv.to = to, mv.rapid = motion_mode_ == 0, mv.f_word = b.f_word, mv.feed = feed_;
+    mv.inverse_time = inverse_time_, mv.process_on = process_on_, mv.layer = layer_, mv.region = region_;
+    return mv;
+  }
+
+  // Sends MV and moves there: the first move as it is (its start unknown), the others with their
+  // axis lengths unless nothing MOVES (then nothing is sent and the machine stays).
+  void send(WalkMove& mv, bool moves) {
+    if (!have_position_) {
+      mv.from_known = false;
+      if (cb_.move) cb_.move(mv);
+    } else if (moves) {
+      mv.l_xyz_mm = norm(Vec3{mv.to.x_mm - pos_.x_mm, mv.to.y_mm - pos_.y_mm, mv.to.z_mm - pos_.z_mm});
+      mv.d_tilt_deg = std::abs(mv.to.a_or_b_deg - pos_.a_or_b_deg);
+      mv.d_c_deg = std::abs(mv.to.c_deg - pos_.c_deg);
+      if (cb_.move) cb_.move(mv);
+    } else {
+      return;
+    }
+    pos_ = mv.to;
+    have_position_ = true;
+  }
+
+  // Sinumerik TRAORI: the tip and the tool vector.
+  core::Status traori_move(const Block& b) {
+    if (!traori_) return bad("motion without TRAORI: the program gives the tip and the tool vector");
+    const Vec3 tip_from = tip_, vec_from = vec_;
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (b.axis[k]) (k == 0 ? tip_.x : k == 1 ? tip_.y : tip_.z) = *b.axis[k];
+      if (b.vector[k]) (k == 0 ? vec_.x : k == 1 ? vec_.y : vec_.z) = *b.vector[k];
+    }
+    if (!(core::norm(vec_) > 0.0)) return bad("a zero tool vector");
+    auto target = machine::inverse(m_, tip_, vec_, have_position_ ? &pos_ : nullptr);
+    if (!target) return make_error(target.error().code, fmt::format("G-code line {}: {}: {}", line_no_, target.error().message, line_));
+    if (motion_mode_ != 0 && !(feed_ > 0.0)) return bad("feed move without a feed rate (F)");
+    if (cb_.target) cb_.target(line_no_, target.value(), line_);
+    WalkMove mv = move_to(target.value(), b);
+    mv.inverse_time = false;
+    mv.tool_space = true;
+    mv.tip_from = tip_from, mv.tip_to = tip_, mv.axis_from = core::normalized(vec_from), mv.axis_to = core::normalized(vec_);
+    const double tip_mm = core::norm(tip_ - tip_from);
+    const double turn_deg = std::atan2(core::norm(core::cross(mv.axis_from, mv.axis_to)), core::dot(mv.axis_from, mv.axis_to)) * 180.0 / M_PI;
+    // F is the tip's path feed; a block turning the tool alone moves at its angle per minute.
+    if (!mv.rapid && have_position_) mv.time_min = tip_mm > 0.0 ? tip_mm / feed_ : turn_deg / feed_;
+    send(mv, tip_mm != 0.0 || turn_deg != 0.0);
+    return {};
+  }
+
+  // ISO under G43.4: the tip and the rotary axes' words.
+  core::Status tcp_move(const Block& b) {
+    if (!tcp_) return bad("motion without G43.4: the program gives the tip, which needs tool centre point control");
+    const Vec3 tip_from = tip_;
+    const MachinePose angles_from = angles_;
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (b.axis[k]) (k == 0 ? tip_.x : k == 1 ? tip_.y : tip_.z) = *b.axis[k];
+    }
+    if (b.axis[3]) angles_.a_or_b_deg = *b.axis[3];
+    if (b.axis[4]) angles_.a_or_b_deg = *b.axis[4];
+    if (b.axis[5]) angles_.c_deg = *b.axis[5];
+    const auto joints = machine::joints_for_tip(m_, tip_, angles_);
+    if (!joints) return bad("no linear axis pose puts the tip there");
+    if (motion_mode_ != 0 && !(feed_ > 0.0)) return bad("feed move without a feed rate (F)");
+    if (cb_.target) cb_.target(line_no_, *joints, line_);
+    WalkMove mv = move_to(*joints, b);
+    mv.inverse_time = false;
+    mv.tool_space = true, mv.rotary_linear = true;
+    mv.tip_from = tip_from, mv.tip_to = tip_, mv.axis_from = axis_at(m_, angles_from), mv.axis_to = axis_at(m_, angles_);
+    const double tip_mm = core::norm(tip_ - tip_from);
+    const double l_rot = std::hypot(joints->a_or_b_deg - pos_.a_or_b_deg, joints->c_deg - pos_.c_deg);
+    // F is the tip's feed over the part; a block turning the axes alone moves at degrees per minute.
+    if (!mv.rapid && have_position_) mv.time_min = tip_mm > 0.0 ? tip_mm / feed_ : l_rot / feed_;
+    send(mv, tip_mm != 0.0 || l_rot != 0.0);
+    return {};
+  }
+
+  // LinuxCNC: the axes' joint values.
+  core::Status joint_move(const Block& b) {
+    MachinePose target = pos_;
+    if (b.axis[0]) target.x_mm = *b.axis[0];
+    if (b.axis[1]) target.y_mm = *b.axis[1];
+    if (b.axis[2]) target.z_mm = *b.axis[2];
+    if (b.axis[3]) target.a_or_b_deg = *b.axis[3];
+    if (b.axis[4]) target.a_or_b_deg = *b.axis[4];
+    if (b.axis[5]) target.c_deg = *b.axis[5];
+    const bool rapid = motion_mode_ == 0;
+    if (!rapid && (inverse_time_ ? !b.f_word : !(feed_ > 0.0))) {
+      return bad(inverse_time_ ? "G93 needs F on every feed move" : "feed move without a feed rate (F)");
+    }
+    if (cb_.target) cb_.target(line_no_, target, line_);
+    WalkMove mv = move_to(target, b);
+    const double l_xyz = norm(Vec3{target.x_mm - pos_.x_mm, target.y_mm - pos_.y_mm, target.z_mm - pos_.z_mm});
+    const double l_rot = std::hypot(target.a_or_b_deg - pos_.a_or_b_deg, target.c_deg - pos_.c_deg);
+    if (!rapid && have_position_) {
+      // Duration (minutes) as LinuxCNC reads F: XYZ path speed, else rotary speed, or 1/F in G93.
+      mv.time_min = inverse_time_ ? 1.0 / *b.f_word : (l_xyz > 0.0 ? l_xyz / feed_ : l_rot / feed_);
+    }
+    send(mv, l_xyz != 0.0 || l_rot != 0.0);
+    return {};
+  }
+
+  const machine::MachineConfig& m_;
+  const process::ProcessConfig* process_;
+  const WalkCallbacks& cb_;
+  const bool five_ = machine::has_rotary_axes(m_.kind);
+  const char tilt_ = machine::tilt_axis_letter(m_.kind);
+  const bool sinumerik_ = m_.post == machine::PostDialect::kSiemensTraori;  // TRAORI: the tip and the tool vector
+  const bool iso_tcp_ = m_.post == machine::PostDialect::kIsoTcp;           // G43.4: the tip and the rotary axes
+  std::string_view line_;
+  std::uint64_t line_no_ = 0;
+  bool program_end_ = false;
+  std::int64_t layer_ = -1, region_ = -1;
+  MachinePose pos_{};
+  bool have_position_ = false;  // false until the first motion block: the machine is anywhere
+  int motion_mode_ = -1;        // 0 or 1 once set
+  bool inverse_time_ = false;
+  double feed_ = 0.0;
+  bool process_on_ = false;
+  bool traori_ = false, tcp_ = false;  // TRAORI on, G43.4 on
+  Vec3 tip_{}, vec_{0.0, 0.0, 1.0};     // modal tip and tool vector (TRAORI, G43.4)
+  MachinePose angles_{};                // modal rotary words under G43.4
+};
+
+}  // namespace
+
+core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode, const process::ProcessConfig* process,
+                        const WalkCallbacks& cb, bool* program_end_out) {
+  if (m.post == machine::PostDialect::kAbbRapid) return walk_rapid(m, gcode, process, cb, program_end_out);
+  if (m.post == machine::PostDialect::k3mfToolpath) return walk_toolpath_3mf(m, gcode, cb, program_end_out);
+  GcodeWalker walker(m, process, cb);
+  return walker.run(gcode, program_end_out);
 }
 
 machine::MachineToolPose tool_at(const machine::MachineConfig& machine, const WalkMove& mv, double u) {
