@@ -18,7 +18,9 @@
 //
 // The rotary words are polyaxis's own inverse kinematics of the tip and the tool axis, which also
 // checks the soft limits (kMachineLimit), keeps the solution branch and C's turn along the program,
-// and slows F where an axis would pass its maximum. A turn with the tip still is a G0 with the
+// and slows F where an axis would pass its maximum. As the rotary axes turn linearly, a block that
+// would bend the tool axis more than 0.05° off the great circle between its ends is written in
+// pieces along the great circle (a bead whose pieces would stall: the tool turns in place first). A turn with the tip still is a G0 with the
 // process off; so is a deposit block whose axes would slow below 0.6 of its feed (post/tool_space.h).
 // Linear words have 4 decimals, rotary words 4.
 #pragma once

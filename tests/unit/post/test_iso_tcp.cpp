@@ -106,6 +106,33 @@ TEST(IsoTcp, FeedsStayWithinTheAxisMaximaAndTurnsInPlaceAreTravel) {
   EXPECT_GE(rapids, 2);
 }
 
+// Under G43.4 the rotary axes turn linearly inside a block, so a torch tilted 40° whose azimuth
+// turns 45° between two points would sweep a cone 3° off the plan's great circle: the post writes
+// such blocks in pieces along it, and slows each to its own axes' maxima.
+TEST(IsoTcp, BlocksThatWouldBendTheAxisOffThePlanAreWrittenInPieces) {
+  const auto m = iso_machine();
+  const auto p = default_process();
+  const double tilt = 40.0 * M_PI / 180.0;
+  std::vector<ProgramPoint> points;
+  for (int k = 0; k <= 16; ++k) {
+    const double az = k * M_PI / 4.0;
+    ProgramPoint q;
+    q.tip_part_mm = {30.0 * std::cos(az), 30.0 * std::sin(az), 2.0};
+    q.tool_axis_part = {std::sin(tilt) * std::cos(az), std::sin(tilt) * std::sin(az), std::cos(tilt)};
+    q.feed_mm_s = k == 0 ? 50.0 : 8.0;
+    q.process_on = k > 0;
+    points.push_back(q);
+  }
+  auto text = write_program(m, p, points);
+  ASSERT_TRUE(text.ok()) << text.error().message;
+  auto sim = verify::simulate(m, text.value(), points, &p, 0.01);
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  EXPECT_EQ(sim.value().limit_violations, 0u) << (sim.value().violations.empty() ? "" : sim.value().violations.front());
+  EXPECT_LE(sim.value().max_tip_deviation_mm, 0.01);
+  EXPECT_LE(sim.value().max_axis_deviation_deg, 0.1);
+  EXPECT_GT(std::count(text.value().begin(), text.value().end(), '\n'), 16 * 4);  // pieces, not 16 blocks
+}
+
 TEST(IsoTcp, TheSetIdGoesUnderThePercentLine) {
   auto text = write_program(iso_machine(), default_process(), helix_and_tilt());
   ASSERT_TRUE(text.ok());
