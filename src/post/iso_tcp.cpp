@@ -83,7 +83,7 @@ class IsoTcp final : public detail::GcodeDialect {
       // The tip and the great circle's axis at k/n, as the controller will put them, each piece
       // slowed to its own axes' maxima; twice as many pieces while one still bends too far. A bead
       // whose pieces would stall (below kStallShare of its planned feed, where the axes turn fast
-      // near the tilt's singularity) stays one block.
+      // near the tilt's singularity) turns in place first (turn_then_bead).
       std::vector<Piece> split;
       MachinePose from = last_;
       core::Vec3 from_tip = last_tip_, from_axis = last_axis_;
@@ -122,14 +122,12 @@ class IsoTcp final : public detail::GcodeDialect {
     if (!start) return start.error();
     switch_process(false);
     MachinePose from = last_;
-    core::Vec3 from_axis = last_axis_;
     const int n = std::max(1, count_pieces(last_, start.value(), last_axis_, axis));
     for (int k = 1; k <= n; ++k) {
-      const core::Vec3 a = great_circle(last_axis_, axis, static_cast<double>(k) / n);
-      auto at = k == n ? start : pose_at(last_tip_, a, &from);
+      auto at = k == n ? start : pose_at(last_tip_, great_circle(last_axis_, axis, static_cast<double>(k) / n), &from);
       if (!at) return at.error();
       write(detail::BlockKind::kTurnInPlace, last_tip_, at.value(), 0.0);
-      from = at.value(), from_axis = a;
+      from = at.value();
     }
     switch_process(pt.process_on);
     write(detail::BlockKind::kFeed, tip, pose, piece_feed(last_tip_, tip, start.value(), pose, feed_mm_s));
