@@ -11,4 +11,8 @@ pkg_check_modules(LIB3MF REQUIRED IMPORTED_TARGET lib3MF)
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 find_package(LibXml2 REQUIRED)  # reading the 3MF toolpath back (verify), its schema check in the tests
 find_package(CGAL REQUIRED)
+# Nesting (lamination): libnest2d-dev is header-only and declares no dependencies; it needs NLopt's
+# C++ header (libnlopt-cxx-dev) and Clipper.
+find_path(LIBNEST2D_INCLUDE_DIR libnest2d/libnest2d.hpp REQUIRED)
+find_package(NLopt REQUIRED)
 find_package(OpenCASCADE REQUIRED)

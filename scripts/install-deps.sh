@@ -11,7 +11,7 @@ packages=(
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev libocct-ocaf-dev libocct-visualization-dev
   lib3mf-dev libzip-dev zlib1g-dev libpolyclipping-dev libtbb-dev nlohmann-json3-dev
-  libcli11-dev libfmt-dev libxml2-dev
+  libcli11-dev libfmt-dev libxml2-dev libnest2d-dev libnlopt-cxx-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # real meshes for the end-to-end plans (OpenCASCADE sample data; LinuxCNC ships machine models)

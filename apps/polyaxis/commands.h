@@ -19,6 +19,7 @@ Runner add_simulate_command(CLI::App& app);
 Runner add_analyze_command(CLI::App& app);
 Runner add_view_command(CLI::App& app);
 Runner add_explain_command(CLI::App& app);
+Runner add_laminate_command(CLI::App& app);
 
 // Prints ERROR to stderr as "polyaxis: error: ..." and returns its exit code.
 int report_error(const core::Error& error);

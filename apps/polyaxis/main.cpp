@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
   const app::Runner analyze = app::add_analyze_command(app);
   const app::Runner view = app::add_view_command(app);
   const app::Runner explain = app::add_explain_command(app);
+  const app::Runner laminate = app::add_laminate_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("analyze")) return with_stdout_checked(analyze());
     if (app.got_subcommand("view")) return with_stdout_checked(view());
     if (app.got_subcommand("explain")) return with_stdout_checked(explain());
+    if (app.got_subcommand("laminate")) return with_stdout_checked(laminate());
     return 2;
   } catch (const core::InvariantError& e) {
     std::fprintf(stderr, "polyaxis: internal error: %s\n", e.what());

@@ -195,4 +195,9 @@ core::Result<ProcessConfig> parse_process(std::string_view text, const std::stri
   return p;
 }
 
+std::string switch_code_problem(const std::string& code) {
+  if (!is_plain_block(code)) return "must be upper-case G-code words separated by single spaces, e.g. \"M64 P0\"";
+  return switch_problem(code);
+}
+
 }  // namespace polyaxis::process

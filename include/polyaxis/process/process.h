@@ -77,6 +77,9 @@ inline constexpr double kMaxFeedMmS = 10000.0;
 // Cost: linear in size.
 core::Result<ProcessConfig> parse_process(std::string_view json, const std::string& source);
 
+// What is wrong with CODE as a process switch (the rule of process_on/process_off above), or "".
+std::string switch_code_problem(const std::string& code);
+
 // The embedded default process (ded_steel), same text as examples/processes/ded_steel.json.
 std::string_view default_process_json();
 

@@ -1,0 +1,203 @@
+// polyaxis laminate PART --sheets 1,2,3,6 [--sheet-size 300x300] [--area-deviation 0.05] [--cusp MM]
+// [--subslice MM] [--machine awj.json] [--process awj.json] [--set ...] -o DIR: sloped-edge thick
+// layers from a stock of sheets, nested onto sheets, with one 5-axis waterjet program per sheet
+// (lamination/lamination.h, waterjet.h; schema in docs/laminate.md).
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "commands.h"
+#include "part_options.h"
+#include "polyaxis/core/config_document.h"
+#include "polyaxis/io/output_set.h"
+#include "polyaxis/io/text_file.h"
+#include "polyaxis/lamination/lamination.h"
+#include "polyaxis/lamination/outputs.h"
+#include "polyaxis/lamination/waterjet.h"
+#include "polyaxis/post/gcode.h"
+
+namespace polyaxis::app {
+namespace {
+
+constexpr std::uint64_t kMaxConfigBytes = 1 << 20;
+
+struct LaminateCommandOptions {
+  PartOptions part;
+  std::string sheets;
+  std::string sheet_size = "300x300";
+  std::string machine_path, process_path;
+  std::vector<std::string> sets;
+  std::string out_dir = "lamination";
+  lamination::LaminateOptions laminate;
+  double cusp_mm = 0.0;
+  bool json = false;
+};
+
+core::Result<double> number(const std::string& text, const std::string& what) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  return core::make_error(core::ErrorCode::kUsage, fmt::format("{}: '{}' is not a finite number", what, text));
+}
+
+core::Status parse(LaminateCommandOptions& o, double& w, double& h) {
+  std::stringstream s(o.sheets);
+  std::string item;
+  while (std::getline(s, item, ',')) {
+    auto v = number(item, "--sheets");
+    if (!v) return v.error();
+    o.laminate.sheets_mm.push_back(v.value());
+  }
+  const auto x = o.sheet_size.find('x');
+  if (x == std::string::npos) return core::make_error(core::ErrorCode::kUsage, fmt::format("--sheet-size: expected WxH in mm, got '{}'", o.sheet_size));
+  auto vw = number(o.sheet_size.substr(0, x), "--sheet-size");
+  if (!vw) return vw.error();
+  auto vh = number(o.sheet_size.substr(x + 1), "--sheet-size");
+  if (!vh) return vh.error();
+  w = vw.value(), h = vh.value();
+  if (o.cusp_mm > 0.0) o.laminate.cusp_mm = o.cusp_mm;
+  return {};
+}
+
+core::Result<nlohmann::json> document(const std::string& path, std::string_view fallback, const char* what) {
+  std::string text(fallback), source = fmt::format("the built-in {}", what);
+  if (!path.empty()) {
+    auto read = io::read_text_file(path, kMaxConfigBytes);
+    if (!read) return core::make_error(core::ErrorCode::kUsage, read.error().message);
+    text = std::move(read.value());
+    source = path;
+  }
+  return core::parse_config_document(text, source);
+}
+
+struct Configs {
+  machine::MachineConfig machine;
+  lamination::WaterjetProcess process;
+};
+
+core::Result<Configs> load(const LaminateCommandOptions& o) {
+  auto m = document(o.machine_path, lamination::default_waterjet_machine_json(), "waterjet machine");
+  if (!m) return m.error();
+  auto p = document(o.process_path, lamination::default_waterjet_process_json(), "waterjet process");
+  if (!p) return p.error();
+  for (const auto& set : o.sets) {
+    core::Status s;
+    if (set.starts_with("machine.")) s = core::apply_override(m.value(), std::string_view(set).substr(8));
+    else if (set.starts_with("process.")) s = core::apply_override(p.value(), std::string_view(set).substr(8));
+    else return core::make_error(core::ErrorCode::kUsage, fmt::format("--set {}: say machine.KEY=VALUE or process.KEY=VALUE", set));
+    if (!s) return core::make_error(core::ErrorCode::kUsage, fmt::format("--set {}: {}", set, s.error().message));
+  }
+  Configs c;
+  auto machine = machine::parse_machine(m.value().dump(), o.machine_path.empty() ? "the built-in waterjet machine" : o.machine_path);
+  if (!machine) return machine.error();
+  c.machine = std::move(machine.value());
+  auto process = lamination::parse_waterjet_process(p.value().dump(), o.process_path.empty() ? "the built-in waterjet process" : o.process_path);
+  if (!process) return process.error();
+  c.process = std::move(process.value());
+  if (!machine::tilts_head(c.machine.kind)) {
+    return core::make_error(core::ErrorCode::kUsage, fmt::format("machine '{}' ({}): a waterjet tilts its head over the sheet; give a head-head machine",
+                                                                 c.machine.name, machine::kinematics_name(c.machine.kind)));
+  }
+  return c;
+}
+
+int run_laminate(LaminateCommandOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  double sheet_w = 0, sheet_h = 0;
+  if (auto s = parse(o, sheet_w, sheet_h); !s) return report_error(s.error());
+  auto configs = load(o);
+  if (!configs) return report_error(configs.error());
+  const auto& machine = configs.value().machine;
+  const auto& process = configs.value().process;
+  o.laminate.max_jet_angle_deg = std::min(std::fabs(machine.tilt_deg.min), std::fabs(machine.tilt_deg.max));
+  auto loaded = load_part(o.part);
+  if (!loaded) return report_error(loaded.error());
+  for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str());
+
+  auto lam = lamination::laminate(loaded.value().repaired.mesh, o.laminate);
+  if (!lam) return report_error(lam.error());
+  const lamination::Lamination& l = lam.value();
+  auto sheets = lamination::nest_sheets(l, process, sheet_w, sheet_h, machine);
+  if (!sheets) return report_error(sheets.error());
+
+  lamination::LaminateMeta meta{o.part.path, machine.name, process.name, o.laminate.sheets_mm, o.laminate.area_deviation,
+                                o.laminate.max_jet_angle_deg, process.kerf_mm, {}, 0.0};
+  std::vector<std::string> programs;
+  for (const auto& sheet : sheets.value()) {
+    auto points = lamination::sheet_program(l, sheet, process, machine);
+    if (!points) return report_error(points.error());
+    post::GcodeOptions go;
+    go.rapid_travel = true;
+    auto gcode = post::write_gcode(machine, lamination::post_process(process), points.value(), go);
+    if (!gcode) return report_error(gcode.error());
+    programs.push_back(std::move(gcode.value()));
+    meta.programs.push_back(fmt::format("sheet_{}.ngc", sheet.index));
+  }
+  meta.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  auto set = io::OutputSet::open(o.out_dir);
+  if (!set) return report_error(set.error());
+  const std::string json = lamination::lamination_json(l, sheets.value(), meta);
+  if (auto s = set.value().add("lamination.json", json); !s) return report_error(s.error());
+  if (auto s = set.value().add("report.html", lamination::lamination_html(l, sheets.value(), process, meta)); !s) return report_error(s.error());
+  for (std::size_t i = 0; i < programs.size(); ++i) {
+    const auto& sheet = sheets.value()[i];
+    if (auto s = set.value().add(fmt::format("sheet_{}.svg", sheet.index), lamination::sheet_svg(l, sheet, process)); !s) return report_error(s.error());
+    if (auto s = set.value().add(meta.programs[i], programs[i], io::Durability::kSynced); !s) return report_error(s.error());
+  }
+  if (auto s = set.value().commit(); !s) return report_error(s.error());
+
+  std::size_t warnings = loaded.value().warnings.size();
+  std::uint32_t at_limit = 0;
+  for (const auto& layer : l.layers) at_limit += layer.at_jet_limit;
+  if (!l.threshold_met) {
+    std::fprintf(stderr, "polyaxis: warning: some layers exceed --area-deviation %g even on the thinnest sheet (see lamination.json)\n", o.laminate.area_deviation);
+    ++warnings;
+  }
+  if (at_limit > 0) {
+    std::fprintf(stderr, "polyaxis: warning: %u edge samples are steeper than the jet's %g° and are cut at the limit\n", at_limit, o.laminate.max_jet_angle_deg);
+    ++warnings;
+  }
+  if (warnings > 0) std::fprintf(stderr, "polyaxis: %zu warnings\n", warnings);
+  if (o.json) {
+    std::printf("%s", json.c_str());
+  } else {
+    double used = 0.0;
+    for (const auto& s : sheets.value()) used += s.utilisation;
+    std::printf("%zu layers on %zu sheets (mean use %.1f %%), deviation %.1f mm3 sloped vs %.1f mm3 stepped -> %s/lamination.json\n", l.layers.size(),
+                sheets.value().size(), sheets.value().empty() ? 0.0 : 100.0 * used / static_cast<double>(sheets.value().size()), l.sloped_deviation_mm3,
+                l.stepped_deviation_mm3, o.out_dir.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Runner add_laminate_command(CLI::App& app) {
+  auto o = std::make_shared<LaminateCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("laminate", "Cut a part into sloped-edge sheet layers, nest them and write 5-axis waterjet programs");
+  add_part_options(*cmd, o->part);
+  cmd->add_option("--sheets", o->sheets, "Sheet thicknesses in stock, mm (e.g. 1,2,3,6)")->required();
+  cmd->add_option("--sheet-size", o->sheet_size, "Sheet size WxH, mm")->capture_default_str();
+  cmd->add_option("--area-deviation", o->laminate.area_deviation, "Largest area deviation of a layer's sloped edge from the part")
+      ->capture_default_str()
+      ->check(kFinitePositive & CLI::Range(1e-6, 10.0));
+  cmd->add_option("--cusp", o->cusp_mm, "Largest gap between a cut and the part, mm (off when 0)")->check(kFinite & CLI::Range(0.0, 1000.0));
+  cmd->add_option("--subslice", o->laminate.subslice_mm, "Thin sub-slice for convex multi-cuts, mm (0: the thinnest sheet)")
+      ->capture_default_str()
+      ->check(kFinite & CLI::Range(0.0, 1000.0));
+  cmd->add_option("--machine", o->machine_path, "Head-head machine file (JSON); default: examples/machines/awj5_head_ac.json");
+  cmd->add_option("--process", o->process_path, "Waterjet process file (JSON); default: examples/processes/awj_steel.json");
+  cmd->add_option("--set", o->sets, "Override a field: machine.limits.a.max=45 or process.kerf_mm=1 (repeatable)");
+  cmd->add_option("-o,--out", o->out_dir, "Output directory")->capture_default_str();
+  cmd->add_flag("--json", o->json, "Print lamination.json to stdout");
+  return [o] { return run_laminate(*o); };
+}
+
+}  // namespace polyaxis::app

@@ -1,0 +1,238 @@
+#include "edges.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "polyaxis/geom2d/clip.h"
+
+namespace polyaxis::lamination::detail {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMinSampleSpacingMm = 1e-4;  // ring corners closer than this are one sample
+
+Vec2 unit(Vec2 v) {
+  const double l = std::hypot(v.x, v.y);
+  return l > 0.0 ? Vec2{v.x / l, v.y / l} : Vec2{0.0, 0.0};
+}
+
+// Samples of RING (mm): its corners with the bisector of their edges' right-hand normals, and
+// points every SPACING along longer edges with the edge's normal.
+std::vector<EdgeSample> ring_samples(const geom2d::Ring& ring, double spacing) {
+  std::vector<Vec2> pts;
+  for (const auto& q : ring) {
+    const Vec2 p{geom2d::to_mm(q.x), geom2d::to_mm(q.y)};
+    if (!pts.empty() && std::hypot(p.x - pts.back().x, p.y - pts.back().y) < kMinSampleSpacingMm) continue;
+    pts.push_back(p);
+  }
+  while (pts.size() > 1 && std::hypot(pts.front().x - pts.back().x, pts.front().y - pts.back().y) < kMinSampleSpacingMm) pts.pop_back();
+  std::vector<EdgeSample> out;
+  const std::size_t n = pts.size();
+  if (n < 3) return out;
+  auto edge_normal = [&](std::size_t i) {  // of the edge pts[i] → pts[i+1]
+    const Vec2 a = pts[i], b = pts[(i + 1) % n];
+    return unit(Vec2{b.y - a.y, -(b.x - a.x)});
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 before = edge_normal((i + n - 1) % n), after = edge_normal(i);
+    Vec2 bis = unit(Vec2{before.x + after.x, before.y + after.y});
+    if (bis.x == 0.0 && bis.y == 0.0) bis = after;  // a hairpin: take the edge ahead
+    EdgeSample corner;
+    corner.p = pts[i];
+    corner.n = bis;
+    out.push_back(corner);
+    const Vec2 a = pts[i], b = pts[(i + 1) % n];
+    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    const int extra = static_cast<int>(std::ceil(len / spacing)) - 1;
+    for (int k = 1; k <= extra; ++k) {
+      const double s = static_cast<double>(k) / (extra + 1);
+      EdgeSample mid;
+      mid.p = {a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s};
+      mid.n = after;
+      out.push_back(mid);
+    }
+  }
+  return out;
+}
+
+struct Profile {
+  std::vector<double> h, r;
+  std::vector<bool> found;  // a crossing within reach (else r is clamped to ±reach)
+};
+
+class LayerEdges {
+ public:
+  LayerEdges(const EdgeContext& c, double z0, double t) : c_(c), z0_(z0), t_(t) {
+    const double sub = c.options.subslice_mm;
+    m_ = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::ceil(t / sub - 1e-9)));
+    tan_limit_ = std::tan(c.options.max_jet_angle_deg * kPi / 180.0);
+    z_mid_ = 0.5 * (z0 + std::min(z0 + t, c.stack.max_z()));
+    heights_.push_back(z0 + kFaceInsetMm);
+    for (std::uint32_t k = 0; k < m_; ++k) heights_.push_back(z0 + (k + 0.5) * t / m_);
+    heights_.push_back(z0 + t - kFaceInsetMm);
+    for (double h : heights_) rays_.emplace_back(c.stack.at(h));
+  }
+
+  Layer build() {
+    Layer layer;
+    layer.z_bottom_mm = z0_;
+    layer.thickness_mm = t_;
+    layer.subslices = m_;
+    layer.excess_mm = std::max(0.0, z0_ + t_ - c_.stack.max_z());
+    layer.z_ref_mm = z_mid_;
+    for (const auto& poly : c_.stack.at(z_mid_)) {
+      Piece piece;
+      piece.area_mm2 = geom2d::area_mm2(poly);
+      piece.outer = loop(poly.outer, false, layer);
+      for (const auto& hole : poly.holes) piece.holes.push_back(loop(hole, true, layer));
+      if (!piece.outer.samples.empty()) layer.pieces.push_back(std::move(piece));
+    }
+    return layer;
+  }
+
+ private:
+  EdgeLoop loop(const geom2d::Ring& ring, bool hole, Layer& layer) {
+    EdgeLoop l;
+    l.hole = hole;
+    l.samples = ring_samples(ring, c_.options.sample_mm);
+    for (auto& s : l.samples) {
+      fit(s);
+      layer.max_gap_mm = std::max(layer.max_gap_mm, s.gap_mm);
+      layer.at_jet_limit += s.at_jet_limit ? 1 : 0;
+      (s.kind == EdgeKind::kConvex ? layer.convex_samples : s.kind == EdgeKind::kConcave ? layer.concave_samples : layer.straight_samples)++;
+    }
+    return l;
+  }
+
+  Profile profile(const EdgeSample& s) const {
+    Profile pr;
+    for (std::size_t j = 0; j < heights_.size(); ++j) {
+      const double reach = std::fabs(heights_[j] - z_mid_) * tan_limit_ + kProfileTolMm;
+      const auto t = rays_[j].crossing(s.p, s.n, reach);
+      pr.h.push_back(heights_[j]);
+      pr.found.push_back(t.has_value());
+      pr.r.push_back(t ? *t : (rays_[j].inside(s.p) ? reach : -reach));
+    }
+    return pr;
+  }
+
+  // The slope dr/dh of the facet under the profile point at index J: −N_z / (N·n) in the sample's
+  // normal plane, the line of V = C × N there.
+  std::optional<double> facet_slope(const EdgeSample& s, const Profile& pr, std::size_t j) const {
+    if (!pr.found[j]) return std::nullopt;
+    const Vec3 hit{s.p.x + s.n.x * pr.r[j], s.p.y + s.n.y * pr.r[j], pr.h[j]};
+    const Vec3 normal = c_.surface.nearest(hit).normal;
+    const double along = normal.x * s.n.x + normal.y * s.n.y;
+    if (along <= 1e-9) return std::nullopt;
+    return -normal.z / along;
+  }
+
+  double clamp_slope(double slope, bool& limited) const {
+    if (std::fabs(slope) > tan_limit_) {
+      limited = true;
+      return std::copysign(tan_limit_, slope);
+    }
+    return slope;
+  }
+
+  // The line through (h, r) with SLOPE, moved out until no profile sample is outside it.
+  Cut line_through(double h, double r, double slope, const Profile& pr) const {
+    Cut cut{r + slope * (z_mid_ - h), slope};
+    double out = 0.0;
+    for (std::size_t j = 0; j < pr.h.size(); ++j) out = std::max(out, pr.r[j] - (cut.r_mid_mm + cut.slope * (pr.h[j] - z_mid_)));
+    cut.r_mid_mm += out;
+    return cut;
+  }
+
+  static EdgeKind classify(const Profile& pr) {
+    bool bulge = false, hollow = false;
+    for (std::size_t j = 1; j + 1 < pr.h.size(); ++j) {
+      const double s = (pr.h[j] - pr.h[j - 1]) / (pr.h[j + 1] - pr.h[j - 1]);
+      const double off = pr.r[j] - (pr.r[j - 1] + s * (pr.r[j + 1] - pr.r[j - 1]));
+      if (off > kProfileTolMm) bulge = true;
+      if (off < -kProfileTolMm) hollow = true;
+    }
+    if (hollow) return EdgeKind::kConcave;
+    return bulge ? EdgeKind::kConvex : EdgeKind::kStraight;
+  }
+
+  void fit(EdgeSample& s) const {
+    const Profile pr = profile(s);
+    bool limited = std::find(pr.found.begin(), pr.found.end(), false) != pr.found.end();
+    s.kind = m_ > 1 ? classify(pr) : EdgeKind::kStraight;
+    if (s.kind == EdgeKind::kConvex) {
+      for (std::uint32_t k = 0; k < m_; ++k) {
+        const std::size_t j = k + 1;  // the sub-slice's middle
+        double slope = 0.0;
+        if (auto f = facet_slope(s, pr, j)) {
+          slope = *f;
+        } else {  // no facet under it: the chord of its neighbours
+          slope = (pr.r[j + 1] - pr.r[j - 1]) / (pr.h[j + 1] - pr.h[j - 1]);
+        }
+        s.cuts.push_back(line_through(pr.h[j], pr.r[j], clamp_slope(slope, limited), pr));
+      }
+    } else {
+      const std::size_t last = pr.h.size() - 1;
+      const double slope = (pr.r[last] - pr.r[0]) / (pr.h[last] - pr.h[0]);
+      s.cuts.push_back(line_through(pr.h[0], pr.r[0], clamp_slope(slope, limited), pr));
+    }
+    s.at_jet_limit = limited;
+    for (std::size_t j = 0; j < pr.h.size(); ++j) s.gap_mm = std::max(s.gap_mm, s.kept_mm(pr.h[j], z_mid_) - pr.r[j]);
+    hayasi_angles(s);
+  }
+
+  // Hayasi Eq. 1 for the first cut's vector V = (n·slope, 1) (up along the surface).
+  static void hayasi_angles(EdgeSample& s) {
+    const double slope = s.cuts.front().slope;
+    const Vec3 v = core::normalized(Vec3{s.n.x * slope, s.n.y * slope, 1.0});
+    s.hayasi_a_deg = 180.0 - std::acos(std::clamp(v.z, -1.0, 1.0)) * 180.0 / kPi;
+    const double hx = std::fabs(slope) > 1e-12 ? v.x : s.n.x, hy = std::fabs(slope) > 1e-12 ? v.y : s.n.y;
+    const double c = std::acos(std::clamp(hx / std::max(std::hypot(hx, hy), 1e-300), -1.0, 1.0)) * 180.0 / kPi;
+    s.hayasi_c_deg = hy < 0.0 ? -c : c;
+  }
+
+  const EdgeContext& c_;
+  double z0_, t_, z_mid_ = 0.0, tan_limit_ = 1.0;
+  std::uint32_t m_ = 1;
+  std::vector<double> heights_;
+  std::vector<RayIndex> rays_;
+};
+
+}  // namespace
+
+Layer build_layer(const EdgeContext& context, double z0, double t) { return LayerEdges(context, z0, t).build(); }
+
+}  // namespace polyaxis::lamination::detail
+
+namespace polyaxis::lamination {
+
+double EdgeSample::kept_mm(double h, double z_mid) const {
+  double r = INFINITY;
+  for (const auto& c : cuts) r = std::min(r, c.r_mid_mm + c.slope * (h - z_mid));
+  return r;
+}
+
+int EdgeLoop::passes() const {
+  std::size_t p = 1;
+  for (const auto& s : samples) p = std::max(p, s.cuts.size());
+  return static_cast<int>(p);
+}
+
+std::vector<geom2d::Polygon> kept_section(const Layer& layer, const Piece& piece, double h, double offset_mm) {
+  std::vector<geom2d::Ring> rings;
+  auto add = [&](const EdgeLoop& loop) {
+    geom2d::Ring ring;
+    ring.reserve(loop.samples.size());
+    for (const auto& s : loop.samples) {
+      double r = INFINITY;
+      for (const auto& c : s.cuts) r = std::min(r, c.r_mid_mm + c.slope * (h - layer.z_ref_mm) + offset_mm * std::sqrt(1.0 + c.slope * c.slope));
+      ring.push_back({geom2d::to_units(s.p.x + s.n.x * r), geom2d::to_units(s.p.y + s.n.y * r)});
+    }
+    rings.push_back(std::move(ring));
+  };
+  add(piece.outer);
+  for (const auto& hole : piece.holes) add(hole);
+  return geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
+}
+
+}  // namespace polyaxis::lamination
