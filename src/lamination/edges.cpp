@@ -10,6 +10,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMinSampleSpacingMm = 1e-4;  // ring corners closer than this are one sample
+// How far a profile looks for the boundary from the reference contour: a surface 79° off vertical
+// over the whole layer (5·t) and a millimetre more. Material beyond counts as standing out that far.
+constexpr double kReachPerThickness = 5.0;
+constexpr double kReachFloorMm = 1.0;
 
 Vec2 unit(Vec2 v) {
   const double l = std::hypot(v.x, v.y);
@@ -55,9 +59,12 @@ std::vector<EdgeSample> ring_samples(const geom2d::Ring& ring, double spacing) {
   return out;
 }
 
+// A sample's profile: at each height the boundary's offset r along n, or none where the material has
+// gone (no boundary within reach and the sample outside the section: nothing there to keep).
 struct Profile {
   std::vector<double> h, r;
-  std::vector<bool> found;  // a crossing within reach (else r is clamped to ±reach)
+  std::vector<bool> present;  // r holds: a crossing, or +reach with the material beyond the reach
+  std::vector<bool> found;    // a crossing within reach (a facet under it)
 };
 
 class LayerEdges {
@@ -66,6 +73,7 @@ class LayerEdges {
     const double sub = c.options.subslice_mm;
     m_ = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(std::ceil(t / sub - 1e-9)));
     tan_limit_ = std::tan(c.options.max_jet_angle_deg * kPi / 180.0);
+    reach_ = kReachPerThickness * t + kReachFloorMm;
     z_mid_ = 0.5 * (z0 + std::min(z0 + t, c.stack.max_z()));
     heights_.push_back(z0 + kFaceInsetMm);
     for (std::uint32_t k = 0; k < m_; ++k) heights_.push_back(z0 + (k + 0.5) * t / m_);
@@ -107,11 +115,12 @@ class LayerEdges {
   Profile profile(const EdgeSample& s) const {
     Profile pr;
     for (std::size_t j = 0; j < heights_.size(); ++j) {
-      const double reach = std::fabs(heights_[j] - z_mid_) * tan_limit_ + kProfileTolMm;
-      const auto t = rays_[j].crossing(s.p, s.n, reach);
+      const auto t = rays_[j].crossing(s.p, s.n, reach_);
+      const bool inside = !t && rays_[j].inside(s.p);
       pr.h.push_back(heights_[j]);
       pr.found.push_back(t.has_value());
-      pr.r.push_back(t ? *t : (rays_[j].inside(s.p) ? reach : -reach));
+      pr.present.push_back(t.has_value() || inside);
+      pr.r.push_back(t ? *t : (inside ? reach_ : -reach_));
     }
     return pr;
   }
@@ -139,12 +148,15 @@ class LayerEdges {
   Cut line_through(double h, double r, double slope, const Profile& pr) const {
     Cut cut{r + slope * (z_mid_ - h), slope};
     double out = 0.0;
-    for (std::size_t j = 0; j < pr.h.size(); ++j) out = std::max(out, pr.r[j] - (cut.r_mid_mm + cut.slope * (pr.h[j] - z_mid_)));
+    for (std::size_t j = 0; j < pr.h.size(); ++j) {
+      if (pr.present[j]) out = std::max(out, pr.r[j] - (cut.r_mid_mm + cut.slope * (pr.h[j] - z_mid_)));
+    }
     cut.r_mid_mm += out;
     return cut;
   }
 
   static EdgeKind classify(const Profile& pr) {
+    if (std::find(pr.found.begin(), pr.found.end(), false) != pr.found.end()) return EdgeKind::kConcave;  // the material ends or steps: one cut
     bool bulge = false, hollow = false;
     for (std::size_t j = 1; j + 1 < pr.h.size(); ++j) {
       const double s = (pr.h[j] - pr.h[j - 1]) / (pr.h[j + 1] - pr.h[j - 1]);
@@ -156,9 +168,12 @@ class LayerEdges {
     return bulge ? EdgeKind::kConvex : EdgeKind::kStraight;
   }
 
+  // Fits the sample's cuts to its profile. No cut leaves a present profile point outside it (no
+  // gouge): a line whose slope the jet cannot reach is cut at the limit and moved out, keeping
+  // excess material instead.
   void fit(EdgeSample& s) const {
     const Profile pr = profile(s);
-    bool limited = std::find(pr.found.begin(), pr.found.end(), false) != pr.found.end();
+    bool limited = false;
     s.kind = m_ > 1 ? classify(pr) : EdgeKind::kStraight;
     if (s.kind == EdgeKind::kConvex) {
       for (std::uint32_t k = 0; k < m_; ++k) {
@@ -172,12 +187,17 @@ class LayerEdges {
         s.cuts.push_back(line_through(pr.h[j], pr.r[j], clamp_slope(slope, limited), pr));
       }
     } else {
-      const std::size_t last = pr.h.size() - 1;
-      const double slope = (pr.r[last] - pr.r[0]) / (pr.h[last] - pr.h[0]);
-      s.cuts.push_back(line_through(pr.h[0], pr.r[0], clamp_slope(slope, limited), pr));
+      // The chord between the lowest and the highest heights with material.
+      std::size_t lo = 0, hi = pr.h.size() - 1;
+      while (lo < hi && !pr.found[lo]) ++lo;
+      while (hi > lo && !pr.found[hi]) --hi;
+      const double slope = hi > lo ? (pr.r[hi] - pr.r[lo]) / (pr.h[hi] - pr.h[lo]) : 0.0;
+      s.cuts.push_back(line_through(pr.h[lo], pr.r[lo], clamp_slope(slope, limited), pr));
     }
     s.at_jet_limit = limited;
-    for (std::size_t j = 0; j < pr.h.size(); ++j) s.gap_mm = std::max(s.gap_mm, s.kept_mm(pr.h[j], z_mid_) - pr.r[j]);
+    for (std::size_t j = 0; j < pr.h.size(); ++j) {
+      if (pr.found[j]) s.gap_mm = std::max(s.gap_mm, s.kept_mm(pr.h[j], z_mid_) - pr.r[j]);
+    }
     hayasi_angles(s);
   }
 
@@ -192,7 +212,7 @@ class LayerEdges {
   }
 
   const EdgeContext& c_;
-  double z0_, t_, z_mid_ = 0.0, tan_limit_ = 1.0;
+  double z0_, t_, z_mid_ = 0.0, tan_limit_ = 1.0, reach_ = 1.0;
   std::uint32_t m_ = 1;
   std::vector<double> heights_;
   std::vector<RayIndex> rays_;

@@ -202,6 +202,50 @@ inline RawMesh cylinder(core::Vec3 base, core::Vec3 axis, double r, double lengt
   return mesh;
 }
 
+// A solid of revolution about Z: the profile's (radius, z) points from the bottom up (radii > 0,
+// z increasing), N sides, both ends capped. With HOLE_R > 0 it is a tube of that bore (every profile
+// radius must exceed it). Outward.
+inline RawMesh revolve(const std::vector<std::array<double, 2>>& profile, std::uint32_t n, double hole_r = 0.0) {
+  const double two_pi = 2.0 * 3.14159265358979323846;
+  RawMesh mesh;
+  const auto rings = static_cast<std::uint32_t>(profile.size());
+  auto at = [&](std::uint32_t ring, std::uint32_t i) { return ring * n + i % n; };
+  for (const auto& [r, z] : profile) {
+    for (std::uint32_t i = 0; i < n; ++i) mesh.points.push_back({r * std::cos(two_pi * i / n), r * std::sin(two_pi * i / n), z});
+  }
+  for (std::uint32_t k = 0; k + 1 < rings; ++k) {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      mesh.triangles.push_back({at(k, i), at(k, i + 1), at(k + 1, i + 1)});
+      mesh.triangles.push_back({at(k, i), at(k + 1, i + 1), at(k + 1, i)});
+    }
+  }
+  const double z0 = profile.front()[1], z1 = profile.back()[1];
+  if (hole_r <= 0.0) {
+    const auto b = static_cast<std::uint32_t>(mesh.points.size());
+    mesh.points.push_back({0, 0, z0});
+    mesh.points.push_back({0, 0, z1});
+    for (std::uint32_t i = 0; i < n; ++i) {
+      mesh.triangles.push_back({b, at(0, i + 1), at(0, i)});
+      mesh.triangles.push_back({b + 1, at(rings - 1, i), at(rings - 1, i + 1)});
+    }
+    return mesh;
+  }
+  const auto h = static_cast<std::uint32_t>(mesh.points.size());  // the bore: ring h (bottom), h + n (top)
+  for (double z : {z0, z1}) {
+    for (std::uint32_t i = 0; i < n; ++i) mesh.points.push_back({hole_r * std::cos(two_pi * i / n), hole_r * std::sin(two_pi * i / n), z});
+  }
+  auto bore = [&](std::uint32_t top, std::uint32_t i) { return h + top * n + i % n; };
+  for (std::uint32_t i = 0; i < n; ++i) {
+    mesh.triangles.push_back({bore(0, i), bore(1, i + 1), bore(0, i + 1)});  // the bore faces the axis
+    mesh.triangles.push_back({bore(0, i), bore(1, i), bore(1, i + 1)});
+    mesh.triangles.push_back({at(0, i), bore(0, i + 1), at(0, i + 1)});     // bottom annulus, down
+    mesh.triangles.push_back({at(0, i), bore(0, i), bore(0, i + 1)});
+    mesh.triangles.push_back({at(rings - 1, i), at(rings - 1, i + 1), bore(1, i + 1)});  // top annulus, up
+    mesh.triangles.push_back({at(rings - 1, i), bore(1, i + 1), bore(1, i)});
+  }
+  return mesh;
+}
+
 // A leaning tower: circles of radius R whose centres move along +X by tan(LEAN_DEG) per mm of height
 // up to LEAN_H, then rise straight to H; N sides, a ring every mm, both ends capped. Its +X side
 // overhangs by LEAN_DEG, then stands vertical.
