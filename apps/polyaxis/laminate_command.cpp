@@ -17,7 +17,6 @@
 #include "polyaxis/lamination/lamination.h"
 #include "polyaxis/lamination/outputs.h"
 #include "polyaxis/lamination/waterjet.h"
-#include "polyaxis/post/gcode.h"
 
 namespace polyaxis::app {
 namespace {
@@ -130,11 +129,7 @@ int run_laminate(LaminateCommandOptions& o) {
                                 o.laminate.max_jet_angle_deg, process.kerf_mm, {}, 0.0};
   std::vector<std::string> programs;
   for (const auto& sheet : sheets.value()) {
-    auto points = lamination::sheet_program(l, sheet, process, machine);
-    if (!points) return report_error(points.error());
-    post::GcodeOptions go;
-    go.rapid_travel = true;
-    auto gcode = post::write_gcode(machine, lamination::post_process(process), points.value(), go);
+    auto gcode = lamination::sheet_gcode(l, sheet, process, machine);
     if (!gcode) return report_error(gcode.error());
     programs.push_back(std::move(gcode.value()));
     meta.programs.push_back(fmt::format("sheet_{}.ngc", sheet.index));

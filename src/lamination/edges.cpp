@@ -14,6 +14,12 @@ constexpr double kMinSampleSpacingMm = 1e-4;  // ring corners closer than this a
 // over the whole layer (5·t) and a millimetre more. Material beyond counts as standing out that far.
 constexpr double kReachPerThickness = 5.0;
 constexpr double kReachFloorMm = 1.0;
+// The dense profile: a height every kDenseStepMm, between kMinDenseSteps and kMaxDenseSteps a layer.
+// Between two heights a cut may miss a convex profile by its sagitta, r''·step²/8 (a 30 mm ball
+// at the jet's limit: 0.01 mm).
+constexpr double kDenseStepMm = 0.25;
+constexpr int kMinDenseSteps = 8;
+constexpr int kMaxDenseSteps = 64;
 
 Vec2 unit(Vec2 v) {
   const double l = std::hypot(v.x, v.y);
@@ -75,9 +81,17 @@ class LayerEdges {
     tan_limit_ = std::tan(c.options.max_jet_angle_deg * kPi / 180.0);
     reach_ = kReachPerThickness * t + kReachFloorMm;
     z_mid_ = 0.5 * (z0 + std::min(z0 + t, c.stack.max_z()));
-    heights_.push_back(z0 + kFaceInsetMm);
-    for (std::uint32_t k = 0; k < m_; ++k) heights_.push_back(z0 + (k + 0.5) * t / m_);
-    heights_.push_back(z0 + t - kFaceInsetMm);
+    // The coarse profile (the faces and the sub-slices' middles) classifies the edge and places the
+    // cuts; the dense one, every t/kDenseSteps at most, keeps them off the part between those.
+    std::vector<double> coarse{z0 + kFaceInsetMm};
+    for (std::uint32_t k = 0; k < m_; ++k) coarse.push_back(z0 + (k + 0.5) * t / m_);
+    coarse.push_back(z0 + t - kFaceInsetMm);
+    heights_ = coarse;
+    const auto dense = static_cast<int>(std::clamp(std::ceil(t / kDenseStepMm), double(kMinDenseSteps), double(kMaxDenseSteps)));
+    for (int i = 1; i < dense; ++i) heights_.push_back(z0 + t * i / dense);
+    std::sort(heights_.begin(), heights_.end());
+    heights_.erase(std::unique(heights_.begin(), heights_.end()), heights_.end());
+    for (double h : coarse) coarse_.push_back(static_cast<std::size_t>(std::lower_bound(heights_.begin(), heights_.end(), h) - heights_.begin()));
     for (double h : heights_) rays_.emplace_back(c.stack.at(h));
   }
 
@@ -155,12 +169,13 @@ class LayerEdges {
     return cut;
   }
 
-  static EdgeKind classify(const Profile& pr) {
+  EdgeKind classify(const Profile& pr) const {
     if (std::find(pr.found.begin(), pr.found.end(), false) != pr.found.end()) return EdgeKind::kConcave;  // the material ends or steps: one cut
     bool bulge = false, hollow = false;
-    for (std::size_t j = 1; j + 1 < pr.h.size(); ++j) {
-      const double s = (pr.h[j] - pr.h[j - 1]) / (pr.h[j + 1] - pr.h[j - 1]);
-      const double off = pr.r[j] - (pr.r[j - 1] + s * (pr.r[j + 1] - pr.r[j - 1]));
+    for (std::size_t c = 1; c + 1 < coarse_.size(); ++c) {
+      const std::size_t i = coarse_[c - 1], j = coarse_[c], k = coarse_[c + 1];
+      const double s = (pr.h[j] - pr.h[i]) / (pr.h[k] - pr.h[i]);
+      const double off = pr.r[j] - (pr.r[i] + s * (pr.r[k] - pr.r[i]));
       if (off > kProfileTolMm) bulge = true;
       if (off < -kProfileTolMm) hollow = true;
     }
@@ -177,7 +192,7 @@ class LayerEdges {
     s.kind = m_ > 1 ? classify(pr) : EdgeKind::kStraight;
     if (s.kind == EdgeKind::kConvex) {
       for (std::uint32_t k = 0; k < m_; ++k) {
-        const std::size_t j = k + 1;  // the sub-slice's middle
+        const std::size_t j = coarse_[k + 1];  // the sub-slice's middle
         double slope = 0.0;
         if (auto f = facet_slope(s, pr, j)) {
           slope = *f;
@@ -215,6 +230,7 @@ class LayerEdges {
   double z0_, t_, z_mid_ = 0.0, tan_limit_ = 1.0, reach_ = 1.0;
   std::uint32_t m_ = 1;
   std::vector<double> heights_;
+  std::vector<std::size_t> coarse_;  // indices into heights_ of the faces and the sub-slices' middles
   std::vector<RayIndex> rays_;
 };
 

@@ -9,6 +9,7 @@
 #include "core/config_json.h"
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/machine/kinematics.h"
+#include "polyaxis/post/gcode.h"
 
 namespace polyaxis::lamination {
 namespace {
@@ -305,6 +306,15 @@ core::Result<std::vector<post::ProgramPoint>> sheet_program(const Lamination& la
                                                                  "(xyzac-head or xyzbc-head)", machine.name, machine::kinematics_name(machine.kind)));
   }
   return SheetWriter(lam, sheet, process).write();
+}
+
+core::Result<std::string> sheet_gcode(const Lamination& lam, const Sheet& sheet, const WaterjetProcess& process, const machine::MachineConfig& machine) {
+  auto points = sheet_program(lam, sheet, process, machine);
+  if (!points) return points.error();
+  post::GcodeOptions options;
+  options.rapid_travel = true;
+  options.split_stalls = false;
+  return post::write_gcode(machine, post_process(process), points.value(), options);
 }
 
 }  // namespace polyaxis::lamination

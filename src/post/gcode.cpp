@@ -399,7 +399,7 @@ class ProgramWriter {
     const ProgramPoint& pt = points_[i];
     auto poses = machine::subdivide(m_, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev_, tol_);
     if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where.str(), end_stop_or(m_, prev_, pt, poses.error().message)));
-    if (pt.process_on && stalls(m_, prev_, poses.value(), pt.feed_mm_s) && singular(prev_) && !poses.value().empty()) {
+    if (o_.split_stalls && pt.process_on && stalls(m_, prev_, poses.value(), pt.feed_mm_s) && singular(prev_) && !poses.value().empty()) {
       // Leaving the pole, C swings to the move's own: turn C alone in place with the process off
       // (the tool stays along C, so the tip and the axis hold), then tilt along the bead as planned.
       auto turn = machine::turn_c_in_place(m_, prev_, poses.value().back().c_deg, tol_);
@@ -414,7 +414,7 @@ class ProgramWriter {
         }
       }
     }
-    if (pt.process_on && stalls(m_, prev_, poses.value(), pt.feed_mm_s)) {
+    if (o_.split_stalls && pt.process_on && stalls(m_, prev_, poses.value(), pt.feed_mm_s)) {
       // The rotary axes cannot keep up with the tip here: turn the tool in place with the process
       // off, then lay the bead with the new axis (verify/verify.h, stall).
       ++stall_splits_;

@@ -1,4 +1,4 @@
-// libFuzzer target: machine and process files (`--machine`, `--process`) on arbitrary bytes, and
+// libFuzzer target: machine and process files (`--machine`, `--process`, laminate's waterjet process) on arbitrary bytes, and
 // `--set` overrides of the embedded defaults. A file is accepted or refused with kUsage (P1-P9),
 // never a signal: 60 000 nested arrays once overflowed the parser's stack (issue 14). An accepted
 // machine has ordered limits and positive feeds; an accepted process finite positive feeds within
@@ -12,6 +12,7 @@
 
 #include "fuzz_require.h"
 #include "polyaxis/core/config_document.h"
+#include "polyaxis/lamination/waterjet.h"
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/process/process.h"
 
@@ -32,6 +33,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     require(p.value().bead_width_mm > 0.0 && std::isfinite(p.value().bead_width_mm));
   } else {
     require(p.error().code == core::ErrorCode::kUsage);
+  }
+  // A waterjet process file (laminate --process).
+  if (auto w = lamination::parse_waterjet_process(text, "fuzz.json")) {
+    const lamination::WaterjetProcess& c = w.value();
+    require(c.kerf_mm > 0.0 && std::isfinite(c.kerf_mm) && c.min_feed_mm_s <= c.max_feed_mm_s);
+    require(c.lead_in_mm <= 0.5 * c.margin_mm && c.lead_out_mm <= 0.5 * c.margin_mm);
+    const double v = lamination::waterjet_feed_mm_s(c, 1.0, 0.3);
+    require(v >= c.min_feed_mm_s && v <= c.max_feed_mm_s);
+  } else {
+    require(w.error().code == core::ErrorCode::kUsage);
   }
   // The same bytes as the value of an override.
   auto doc = core::parse_config_document(process::default_process_json(), "default");

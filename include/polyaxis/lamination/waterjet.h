@@ -101,4 +101,10 @@ core::Result<std::vector<post::ProgramPoint>> sheet_program(const Lamination& la
 // The same points' process as the post takes it: jet codes and pierce dwell.
 process::ProcessConfig post_process(const WaterjetProcess& process);
 
+// SHEET's program as LinuxCNC G-code (post/gcode.h): travel as G0, and moves the rotary axes slow
+// written slowed with the jet on (GcodeOptions::split_stalls off: no re-pierce, no line swung off
+// its cut).
+core::Result<std::string> sheet_gcode(const Lamination& lamination, const Sheet& sheet, const WaterjetProcess& process,
+                                      const machine::MachineConfig& machine);
+
 }  // namespace polyaxis::lamination

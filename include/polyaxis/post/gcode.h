@@ -59,6 +59,11 @@ struct GcodeOptions {
   double chordal_mm = 0.01;            // largest tip deviation from the planned segment between blocks
   bool rapid_travel = false;           // travel moves (process off) as G0 at the controller's rapid rates
                                        // instead of G1 at their planned feed
+  // Deposit blocks the rotary axes would slow below their feed are split into a turn in place with
+  // the process off and the bead at the new axis (deposition: no metal piles up where the tip
+  // crawls). false: they are written slowed, with the process on (cutting: switching a jet off and
+  // on re-pierces, and a line swung at the old tip leaves its cut).
+  bool split_stalls = true;
   std::uint64_t max_output_bytes = 0;  // 0: no cap; beyond it → kOutput (RELIABILITY O5)
   GcodeStats* stats = nullptr;         // filled when given
 };
