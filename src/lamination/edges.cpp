@@ -9,7 +9,7 @@ namespace polyaxis::lamination::detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMinSampleSpacingMm = 1e-4;  // ring corners closer than this are one sample
+constexpr double kMinSampleSpacingMm = 1e-2;  // ring corners closer than this are one sample
 // How far a profile looks for the boundary from the reference contour: a surface 79° off vertical
 // over the whole layer (5·t) and a millimetre more. Material beyond counts as standing out that far.
 constexpr double kReachPerThickness = 5.0;
@@ -18,6 +18,9 @@ constexpr double kReachFloorMm = 1.0;
 // Between two heights a cut may miss a convex profile by its sagitta, r''·step²/8 (a 30 mm ball
 // at the jet's limit: 0.01 mm).
 constexpr double kDenseStepMm = 0.25;
+// Holes with up to this many samples are checked for crossing cuts with an exact O(n²) test; larger
+// ones by their orientation alone.
+constexpr std::size_t kMaxSimpleCheck = 2048;
 constexpr int kMinDenseSteps = 8;
 constexpr int kMaxDenseSteps = 64;
 
@@ -43,9 +46,13 @@ std::vector<EdgeSample> ring_samples(const geom2d::Ring& ring, double spacing) {
     const Vec2 a = pts[i], b = pts[(i + 1) % n];
     return unit(Vec2{b.y - a.y, -(b.x - a.x)});
   };
+  auto edge_length = [&](std::size_t i) { return std::hypot(pts[(i + 1) % n].x - pts[i].x, pts[(i + 1) % n].y - pts[i].y); };
   for (std::size_t i = 0; i < n; ++i) {
+    // The corner's normal: its edges' normals weighted by their lengths, so that a sliver edge
+    // (a section's rounding) does not turn it; the bisector where the two are alike.
+    const double lb = edge_length((i + n - 1) % n), la = edge_length(i);
     const Vec2 before = edge_normal((i + n - 1) % n), after = edge_normal(i);
-    Vec2 bis = unit(Vec2{before.x + after.x, before.y + after.y});
+    Vec2 bis = unit(Vec2{lb * before.x + la * after.x, lb * before.y + la * after.y});
     if (bis.x == 0.0 && bis.y == 0.0) bis = after;  // a hairpin: take the edge ahead
     EdgeSample corner;
     corner.p = pts[i];
@@ -106,7 +113,14 @@ class LayerEdges {
       Piece piece;
       piece.area_mm2 = geom2d::area_mm2(poly);
       piece.outer = loop(poly.outer, false, layer);
-      for (const auto& hole : poly.holes) piece.holes.push_back(loop(hole, true, layer));
+      for (const auto& hole : poly.holes) {
+        EdgeLoop l = loop(hole, true, layer);
+        if (closes(l)) {
+          ++layer.holes_closed;  // kept as material: no straight jet within the limit clears it
+        } else {
+          piece.holes.push_back(std::move(l));
+        }
+      }
       if (!piece.outer.samples.empty()) layer.pieces.push_back(std::move(piece));
     }
     return layer;
@@ -124,6 +138,24 @@ class LayerEdges {
       (s.kind == EdgeKind::kConvex ? layer.convex_samples : s.kind == EdgeKind::kConcave ? layer.concave_samples : layer.straight_samples)++;
     }
     return l;
+  }
+
+  // Whether the hole LOOP's kept edge closes somewhere in the layer: the ring of its samples moved
+  // out by their kept edge stops being a simple clockwise ring at one of the profile's heights (the
+  // hole narrows below what a line within the jet's limit can follow, and its cuts would cross and
+  // cut the material across the hole).
+  bool closes(const EdgeLoop& loop) const {
+    if (loop.samples.size() < 3) return true;
+    for (double h : heights_) {
+      geom2d::Ring ring;
+      ring.reserve(loop.samples.size());
+      for (const auto& s : loop.samples) {
+        const double r = s.kept_mm(h, z_mid_);
+        ring.push_back({geom2d::to_units(s.p.x + s.n.x * r), geom2d::to_units(s.p.y + s.n.y * r)});
+      }
+      if (geom2d::twice_signed_area(ring) >= 0 || (ring.size() <= kMaxSimpleCheck && !geom2d::is_simple(ring))) return true;
+    }
+    return false;
   }
 
   Profile profile(const EdgeSample& s) const {

@@ -23,10 +23,27 @@ json ring_json(const geom2d::Ring& ring) {
   return out;
 }
 
+const char* kind_name(EdgeKind k) { return k == EdgeKind::kConvex ? "convex" : k == EdgeKind::kConcave ? "concave" : "straight"; }
+
+// A loop's samples: [x, y, nx, ny, kind, [[r_ref, slope], …], A, C] (mm, the part's frame; Hayasi's
+// angles of the first cut, degrees).
+json loop_json(const EdgeLoop& loop) {
+  json samples = json::array();
+  for (const auto& s : loop.samples) {
+    json cuts = json::array();
+    for (const auto& c : s.cuts) cuts.push_back({round_to(c.r_mid_mm, 1e-6), round_to(c.slope, 1e-9)});
+    samples.push_back({round_to(s.p.x, 1e-6), round_to(s.p.y, 1e-6), round_to(s.n.x, 1e-9), round_to(s.n.y, 1e-9), kind_name(s.kind), cuts,
+                       round_to(s.hayasi_a_deg, 1e-4), round_to(s.hayasi_c_deg, 1e-4)});
+  }
+  return {{"hole", loop.hole}, {"passes", loop.passes()}, {"samples", samples}};
+}
+
 json layer_json(const Layer& l) {
   json pieces = json::array();
   for (const auto& p : l.pieces) {
-    pieces.push_back({{"area_mm2", p.area_mm2}, {"holes", p.holes.size()}, {"outer_samples", p.outer.samples.size()}, {"passes", p.outer.passes()}});
+    json loops = json::array({loop_json(p.outer)});
+    for (const auto& h : p.holes) loops.push_back(loop_json(h));
+    pieces.push_back({{"area_mm2", p.area_mm2}, {"loops", loops}});
   }
   return {{"index", l.index},
           {"z_bottom_mm", l.z_bottom_mm},
@@ -37,6 +54,7 @@ json layer_json(const Layer& l) {
           {"max_gap_mm", l.max_gap_mm},
           {"excess_mm", l.excess_mm},
           {"edges", {{"convex", l.convex_samples}, {"concave", l.concave_samples}, {"straight", l.straight_samples}, {"at_jet_limit", l.at_jet_limit}}},
+          {"holes_closed", l.holes_closed},
           {"pieces", pieces}};
 }
 

@@ -108,6 +108,9 @@ struct Layer {
   // except in a last layer standing above the part's top). Cuts are written about it.
   double z_ref_mm = 0.0;
   std::uint32_t convex_samples = 0, concave_samples = 0, straight_samples = 0, at_jet_limit = 0;
+  // Holes left uncut: the hole narrows within the layer faster than a line within the jet's limit
+  // can follow, so its cuts would cross it; the layer keeps the material (excess, never a gouge).
+  std::uint32_t holes_closed = 0;
   std::vector<Piece> pieces;
   double z_top() const { return z_bottom_mm + thickness_mm; }
 };
