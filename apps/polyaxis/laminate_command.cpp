@@ -119,14 +119,20 @@ int run_laminate(LaminateCommandOptions& o) {
   if (!loaded) return report_error(loaded.error());
   for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str());
 
+  auto since = [](std::chrono::steady_clock::time_point t) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); };
+  auto stage = std::chrono::steady_clock::now();
   auto lam = lamination::laminate(loaded.value().repaired.mesh, o.laminate);
   if (!lam) return report_error(lam.error());
   const lamination::Lamination& l = lam.value();
+  const double layers_s = since(stage);
+  stage = std::chrono::steady_clock::now();
   auto sheets = lamination::nest_sheets(l, process, sheet_w, sheet_h, machine);
   if (!sheets) return report_error(sheets.error());
+  const double nesting_s = since(stage);
+  stage = std::chrono::steady_clock::now();
 
   lamination::LaminateMeta meta{o.part.path, machine.name, process.name, o.laminate.sheets_mm, o.laminate.area_deviation,
-                                o.laminate.max_jet_angle_deg, process.kerf_mm, {}, 0.0};
+                                o.laminate.max_jet_angle_deg, process.kerf_mm, {}, 0.0, {}};
   std::vector<std::string> programs;
   for (const auto& sheet : sheets.value()) {
     auto gcode = lamination::sheet_gcode(l, sheet, process, machine);
@@ -134,7 +140,8 @@ int run_laminate(LaminateCommandOptions& o) {
     programs.push_back(std::move(gcode.value()));
     meta.programs.push_back(fmt::format("sheet_{}.ngc", sheet.index));
   }
-  meta.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  meta.seconds = since(start);
+  meta.stage_seconds = {{"read", loaded.value().read_s + loaded.value().repair_s}, {"layers", layers_s}, {"nesting", nesting_s}, {"programs", since(stage)}};
 
   auto set = io::OutputSet::open(o.out_dir);
   if (!set) return report_error(set.error());

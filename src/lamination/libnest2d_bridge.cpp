@@ -22,6 +22,7 @@ std::vector<BridgePlacement> nest_rings(const std::vector<std::vector<BridgePoin
                                     libnest2d::Radians(3 * libnest2d::Pi / 2)};
   config.placer_config.alignment = libnest2d::NfpPlacer::Config::Alignment::DONT_ALIGN;
   config.placer_config.parallel = false;
+  config.placer_config.accuracy = 0.2f;
   libnest2d::nest(items, bin, 0, config);
   std::vector<BridgePlacement> out;
   out.reserve(items.size());

@@ -98,6 +98,11 @@ std::string lamination_json(const Lamination& lam, const std::vector<Sheet>& she
               {"sloped_deviation_mm3", lam.sloped_deviation_mm3},
               {"stepped_deviation_mm3", lam.stepped_deviation_mm3},
               {"seconds", meta.seconds},
+              {"stage_seconds", [&] {
+                 json t = json::object();
+                 for (const auto& [k, v] : meta.stage_seconds) t[k] = v;
+                 return t;
+               }()},
               {"layers", layers},
               {"sheets", js}};
   return doc.dump(1) + "\n";

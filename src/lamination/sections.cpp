@@ -14,6 +14,9 @@ constexpr double kMinCellMm = 0.05;
 }  // namespace
 
 SectionStack::SectionStack(const mesh::Mesh& mesh) : context_(mesh, Vec3{0, 0, 1}) {
+  core::Box3 box;
+  for (const auto& v : mesh.vertices) box.add(v);
+  diagonal_mm_ = box.empty() ? 0.0 : core::norm(box.max - box.min);
   const double span = std::max(context_.max_height() - context_.min_height(), 1e-9);
   const std::size_t nbins = std::clamp<std::size_t>(mesh.triangles.size() / 8 + 1, 1, kMaxBins);
   bin_mm_ = span / static_cast<double>(nbins);
@@ -77,47 +80,59 @@ RayIndex::RayIndex(const std::vector<geom2d::Polygon>& polygons) {
   for (const auto& g : grid) cells_.insert(cells_.end(), g.begin(), g.end());
 }
 
-std::optional<double> RayIndex::crossing(Vec2 p, Vec2 n, double reach) const {
+std::optional<RayIndex::Hit> RayIndex::first_hit(Vec2 p, Vec2 d) const {
   if (segments_.empty()) return std::nullopt;
-  const Vec2 a{p.x - n.x * reach, p.y - n.y * reach}, b{p.x + n.x * reach, p.y + n.y * reach};
-  const int cx0 = std::max(0, static_cast<int>(std::floor((std::min(a.x, b.x) - x0_) / cell_)));
-  const int cx1 = std::min(nx_ - 1, static_cast<int>(std::floor((std::max(a.x, b.x) - x0_) / cell_)));
-  const int cy0 = std::max(0, static_cast<int>(std::floor((std::min(a.y, b.y) - y0_) / cell_)));
-  const int cy1 = std::min(ny_ - 1, static_cast<int>(std::floor((std::max(a.y, b.y) - y0_) / cell_)));
-  std::optional<double> best;
-  for (int cy = cy0; cy <= cy1; ++cy) {
-    for (int cx = cx0; cx <= cx1; ++cx) {
-      const std::size_t c = static_cast<std::size_t>(cy) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(cx);
-      for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
-        const Segment& s = segments_[cells_[k]];
-        const Vec2 e{s.b.x - s.a.x, s.b.y - s.a.y};
-        // Right-hand normal (e.y, -e.x) points out of the material: keep segments facing +n.
-        const double facing = e.y * n.x - e.x * n.y;
-        if (facing <= 0.0) continue;
-        // p + t·n = a + u·e  →  solve by 2-D cross products.
-        const double denom = n.x * e.y - n.y * e.x;  // = facing
-        const Vec2 w{s.a.x - p.x, s.a.y - p.y};
-        const double t = (w.x * e.y - w.y * e.x) / denom;
-        const double u = (w.x * n.y - w.y * n.x) / denom;
-        if (u < 0.0 || u > 1.0 || std::fabs(t) > reach) continue;
-        if (!best || std::fabs(t) < std::fabs(*best) || (std::fabs(t) == std::fabs(*best) && t > *best)) best = t;
-      }
+  // The part of the line inside the grid's box.
+  const double lo[2] = {x0_, y0_}, hi[2] = {x0_ + nx_ * cell_, y0_ + ny_ * cell_}, pp[2] = {p.x, p.y}, dd[2] = {d.x, d.y};
+  double t0 = -kOnBoundaryMm, t1 = INFINITY;
+  for (int k = 0; k < 2; ++k) {
+    if (std::fabs(dd[k]) < 1e-300) {
+      if (pp[k] < lo[k] || pp[k] > hi[k]) return std::nullopt;
+      continue;
+    }
+    double a = (lo[k] - pp[k]) / dd[k], b = (hi[k] - pp[k]) / dd[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a), t1 = std::min(t1, b);
+  }
+  if (t0 > t1) return std::nullopt;
+  const double qx = p.x + d.x * t0, qy = p.y + d.y * t0;
+  int cx = std::clamp(static_cast<int>(std::floor((qx - x0_) / cell_)), 0, nx_ - 1);
+  int cy = std::clamp(static_cast<int>(std::floor((qy - y0_) / cell_)), 0, ny_ - 1);
+  const int sx = d.x > 0 ? 1 : -1, sy = d.y > 0 ? 1 : -1;
+  const bool flat_x = std::fabs(d.x) < 1e-300, flat_y = std::fabs(d.y) < 1e-300;
+  double tx = flat_x ? INFINITY : (x0_ + (cx + (d.x > 0 ? 1 : 0)) * cell_ - p.x) / d.x;
+  double ty = flat_y ? INFINITY : (y0_ + (cy + (d.y > 0 ? 1 : 0)) * cell_ - p.y) / d.y;
+  const double dtx = flat_x ? INFINITY : cell_ / std::fabs(d.x), dty = flat_y ? INFINITY : cell_ / std::fabs(d.y);
+  std::optional<Hit> best;
+  while (cx >= 0 && cx < nx_ && cy >= 0 && cy < ny_) {
+    const std::size_t c = static_cast<std::size_t>(cy) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(cx);
+    for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
+      const Segment& s = segments_[cells_[k]];
+      const Vec2 e{s.b.x - s.a.x, s.b.y - s.a.y};
+      const double denom = d.x * e.y - d.y * e.x;  // > 0: the outward normal (e.y, −e.x) points along d
+      if (denom == 0.0) continue;
+      const Vec2 w{s.a.x - p.x, s.a.y - p.y};
+      const double t = (w.x * e.y - w.y * e.x) / denom, u = (w.x * d.y - w.y * d.x) / denom;
+      if (u < 0.0 || u > 1.0 || t < -kOnBoundaryMm) continue;
+      if (!best || t < best->t) best = Hit{t, denom > 0.0};
+    }
+    const double t_exit = std::min(tx, ty);
+    if ((best && best->t <= t_exit) || t_exit > t1) break;
+    if (tx < ty) {
+      cx += sx, tx += dtx;
+    } else {
+      cy += sy, ty += dty;
     }
   }
   return best;
 }
 
-bool RayIndex::inside(Vec2 p) const {
-  int winding = 0;
-  for (const auto& s : segments_) {
-    const double cross = (s.b.x - s.a.x) * (p.y - s.a.y) - (p.x - s.a.x) * (s.b.y - s.a.y);
-    if (s.a.y <= p.y) {
-      if (s.b.y > p.y && cross > 0) ++winding;
-    } else if (s.b.y <= p.y && cross < 0) {
-      --winding;
-    }
-  }
-  return winding != 0;
+std::optional<double> RayIndex::offset(Vec2 p, Vec2 n) const {
+  const auto ahead = first_hit(p, n);
+  if (ahead && ahead->leaves) return ahead->t;  // in the material: it reaches the first exit
+  const auto behind = first_hit(p, Vec2{-n.x, -n.y});
+  if (behind && !behind->leaves) return -behind->t;  // the material lies behind, its edge there
+  return std::nullopt;
 }
 
 }  // namespace polyaxis::lamination::detail

@@ -11,8 +11,8 @@
 //   bisector of its edges' right-hand normals: away from the material, for outer loops and holes).
 // - The edge profile at p is r(h): how far along n the part's boundary lies at height h, found by a
 //   2-D ray from p along ±n in the section at h (only boundary crossings that leave the material
-//   along +n count, within 5·t + 1 mm; material beyond counts as standing out that far, and a height
-//   with no material near p puts no bound on the cut).
+//   along +n count, across the whole part; a height with no material along the ray puts no bound
+//   on the cut).
 // - A cut is a straight jet line in the vertical plane through p along n: r(h) = r_ref + slope·(h −
 //   z_ref). Its cutting vector is V = C × N of the facet the profile crosses (Hayasi Eq. 1; C the
 //   contour vector, N the facet normal, both loops traced counter-clockwise as Hayasi traces them,

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "polyaxis/lamination/lamination.h"
@@ -20,6 +21,7 @@ struct LaminateMeta {
   double kerf_mm = 0.0;
   std::vector<std::string> programs;  // one file name per sheet
   double seconds = 0.0;               // laminate's own time
+  std::vector<std::pair<std::string, double>> stage_seconds;  // read, layers, nesting, programs
 };
 
 std::string lamination_json(const Lamination& lamination, const std::vector<Sheet>& sheets, const LaminateMeta& meta);
