@@ -2,7 +2,9 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "polyaxis/core/result.h"
@@ -23,6 +25,13 @@ struct Configs {
   machine::MachineConfig machine;
   process::ProcessConfig process;
 };
+
+// PATH's JSON document (comments allowed), or FALLBACK's (the built-in WHAT) when PATH is empty.
+// kUsage naming the file.
+core::Result<nlohmann::json> load_config_document(const std::string& path, std::string_view fallback, const char* what);
+// Applies --set overrides: machine.KEY=VALUE to MACHINE, process.KEY=VALUE to PROCESS (kUsage
+// naming the override).
+core::Status apply_sets(nlohmann::json& machine, nlohmann::json& process, const std::vector<std::string>& sets);
 
 // Loads the files (or the defaults), applies the overrides and validates. Every error is
 // kUsage (exit 2) naming the file and key.

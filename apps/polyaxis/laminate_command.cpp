@@ -10,18 +10,15 @@
 #include <sstream>
 
 #include "commands.h"
+#include "config_options.h"
 #include "part_options.h"
-#include "polyaxis/core/config_document.h"
 #include "polyaxis/io/output_set.h"
-#include "polyaxis/io/text_file.h"
 #include "polyaxis/lamination/lamination.h"
 #include "polyaxis/lamination/outputs.h"
 #include "polyaxis/lamination/waterjet.h"
 
 namespace polyaxis::app {
 namespace {
-
-constexpr std::uint64_t kMaxConfigBytes = 1 << 20;
 
 struct LaminateCommandOptions {
   PartOptions part;
@@ -35,44 +32,23 @@ struct LaminateCommandOptions {
   bool json = false;
 };
 
-core::Result<double> number(const std::string& text, const std::string& what) {
-  try {
-    std::size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size() && std::isfinite(v)) return v;
-  } catch (const std::exception&) {
-  }
-  return core::make_error(core::ErrorCode::kUsage, fmt::format("{}: '{}' is not a finite number", what, text));
-}
-
 core::Status parse(LaminateCommandOptions& o, double& w, double& h) {
   std::stringstream s(o.sheets);
   std::string item;
   while (std::getline(s, item, ',')) {
-    auto v = number(item, "--sheets");
+    auto v = parse_number(item, "--sheets");
     if (!v) return v.error();
     o.laminate.sheets_mm.push_back(v.value());
   }
   const auto x = o.sheet_size.find('x');
   if (x == std::string::npos) return core::make_error(core::ErrorCode::kUsage, fmt::format("--sheet-size: expected WxH in mm, got '{}'", o.sheet_size));
-  auto vw = number(o.sheet_size.substr(0, x), "--sheet-size");
+  auto vw = parse_number(o.sheet_size.substr(0, x), "--sheet-size");
   if (!vw) return vw.error();
-  auto vh = number(o.sheet_size.substr(x + 1), "--sheet-size");
+  auto vh = parse_number(o.sheet_size.substr(x + 1), "--sheet-size");
   if (!vh) return vh.error();
   w = vw.value(), h = vh.value();
   if (o.cusp_mm > 0.0) o.laminate.cusp_mm = o.cusp_mm;
   return {};
-}
-
-core::Result<nlohmann::json> document(const std::string& path, std::string_view fallback, const char* what) {
-  std::string text(fallback), source = fmt::format("the built-in {}", what);
-  if (!path.empty()) {
-    auto read = io::read_text_file(path, kMaxConfigBytes);
-    if (!read) return core::make_error(core::ErrorCode::kUsage, read.error().message);
-    text = std::move(read.value());
-    source = path;
-  }
-  return core::parse_config_document(text, source);
 }
 
 struct Configs {
@@ -81,17 +57,11 @@ struct Configs {
 };
 
 core::Result<Configs> load(const LaminateCommandOptions& o) {
-  auto m = document(o.machine_path, lamination::default_waterjet_machine_json(), "waterjet machine");
+  auto m = load_config_document(o.machine_path, lamination::default_waterjet_machine_json(), "waterjet machine");
   if (!m) return m.error();
-  auto p = document(o.process_path, lamination::default_waterjet_process_json(), "waterjet process");
+  auto p = load_config_document(o.process_path, lamination::default_waterjet_process_json(), "waterjet process");
   if (!p) return p.error();
-  for (const auto& set : o.sets) {
-    core::Status s;
-    if (set.starts_with("machine.")) s = core::apply_override(m.value(), std::string_view(set).substr(8));
-    else if (set.starts_with("process.")) s = core::apply_override(p.value(), std::string_view(set).substr(8));
-    else return core::make_error(core::ErrorCode::kUsage, fmt::format("--set {}: say machine.KEY=VALUE or process.KEY=VALUE", set));
-    if (!s) return core::make_error(core::ErrorCode::kUsage, fmt::format("--set {}: {}", set, s.error().message));
-  }
+  if (auto s = apply_sets(m.value(), p.value(), o.sets); !s) return s.error();
   Configs c;
   auto machine = machine::parse_machine(m.value().dump(), o.machine_path.empty() ? "the built-in waterjet machine" : o.machine_path);
   if (!machine) return machine.error();

@@ -88,4 +88,14 @@ core::Result<LoadedPart> load_part(const PartOptions& options) {
   return part;
 }
 
+core::Result<double> parse_number(const std::string& text, const std::string& what) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  return core::make_error(core::ErrorCode::kUsage, fmt::format("{}: '{}' is not a finite number", what, text));
+}
+
 }  // namespace polyaxis::app

@@ -24,6 +24,9 @@ struct PartOptions {
 
 void add_part_options(CLI::App& command, PartOptions& options);
 
+// TEXT as a finite number, or kUsage naming WHAT ("--dir: 'x' is not a finite number").
+core::Result<double> parse_number(const std::string& text, const std::string& what);
+
 // Everything a command knows about a part after reading and repair.
 struct LoadedPart {
   io::Format format = io::Format::kStlBinary;

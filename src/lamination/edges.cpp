@@ -146,15 +146,7 @@ class LayerEdges {
     const std::size_t n = loop.samples.size();
     if (n < 3) return true;
     for (const auto& s : loop.samples) {
-      double width = INFINITY;  // to the hole's far side along n
-      for (std::size_t i = 0; i < n; ++i) {
-        const Vec2 a = loop.samples[i].p, b = loop.samples[(i + 1) % n].p;
-        const Vec2 e{b.x - a.x, b.y - a.y}, w{a.x - s.p.x, a.y - s.p.y};
-        const double denom = s.n.x * e.y - s.n.y * e.x;
-        if (std::fabs(denom) < 1e-15) continue;
-        const double t = (w.x * e.y - w.y * e.x) / denom, u = (w.x * s.n.y - w.y * s.n.x) / denom;
-        if (u >= 0.0 && u <= 1.0 && t > kMinSampleSpacingMm) width = std::min(width, t);
-      }
+      const double width = distance_across(loop, s.p, s.n, kMinSampleSpacingMm);  // to the hole's far side
       for (double h : heights_) {
         if (s.kept_mm(h, z_mid_) >= 0.5 * width) return true;
       }
@@ -285,6 +277,20 @@ class LayerEdges {
 }  // namespace
 
 Layer build_layer(const EdgeContext& context, double z0, double t) { return LayerEdges(context, z0, t).build(); }
+
+double distance_across(const EdgeLoop& loop, Vec2 p, Vec2 n, double min_mm) {
+  double nearest = INFINITY;
+  const std::size_t count = loop.samples.size();
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec2 a = loop.samples[i].p, b = loop.samples[(i + 1) % count].p;
+    const Vec2 e{b.x - a.x, b.y - a.y}, w{a.x - p.x, a.y - p.y};
+    const double denom = n.x * e.y - n.y * e.x;
+    if (std::fabs(denom) < 1e-15) continue;
+    const double t = (w.x * e.y - w.y * e.x) / denom, u = (w.x * n.y - w.y * n.x) / denom;
+    if (u >= 0.0 && u <= 1.0 && t > min_mm) nearest = std::min(nearest, t);
+  }
+  return nearest;
+}
 
 }  // namespace polyaxis::lamination::detail
 

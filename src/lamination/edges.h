@@ -22,6 +22,10 @@ struct EdgeContext {
   const LaminateOptions& options;
 };
 
+// How far from P along N the ray first meets LOOP's ring of samples again (beyond MIN_MM), or
+// infinity: a hole's width there, for its cuts and its lead-in.
+double distance_across(const EdgeLoop& loop, Vec2 p, Vec2 n, double min_mm);
+
 // The edge model of the layer [Z0, Z0 + T]: pieces from the section at its middle, each sample's
 // profile at the sub-slices and the cuts. Layer::area_deviation and the deviation volumes are not
 // filled here (deviation.cpp).

@@ -9,6 +9,7 @@
 #include "core/config_json.h"
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/machine/kinematics.h"
+#include "edges.h"
 #include "polyaxis/post/gcode.h"
 
 namespace polyaxis::lamination {
@@ -16,6 +17,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kHoleLeadShare = 0.45;  // a hole's lead-in: at most this share of its width along the normal
+constexpr double kLeadMinMm = 1e-6;      // the start sample's own edges are no width
 
 constexpr const char* kDefaultWaterjet = R"({
   "name": "awj_steel",
@@ -246,16 +248,7 @@ class SheetWriter {
   // width there; outside a piece, the lead-in itself (the margin keeps neighbours away).
   double lead_room(const EdgeLoop& loop, const EdgeSample& s) const {
     if (!loop.hole) return w_.lead_in_mm;
-    double nearest = INFINITY;
-    const std::size_t n = loop.samples.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec2 a = loop.samples[i].p, b = loop.samples[(i + 1) % n].p;
-      const Vec2 e{b.x - a.x, b.y - a.y}, wv{a.x - s.p.x, a.y - s.p.y};
-      const double denom = s.n.x * e.y - s.n.y * e.x;
-      if (std::fabs(denom) < 1e-15) continue;
-      const double t = (wv.x * e.y - wv.y * e.x) / denom, u = (wv.x * s.n.y - wv.y * s.n.x) / denom;
-      if (u >= 0.0 && u <= 1.0 && t > 1e-6) nearest = std::min(nearest, t);
-    }
+    const double nearest = detail::distance_across(loop, s.p, s.n, kLeadMinMm);
     return std::min(w_.lead_in_mm, kHoleLeadShare * (std::isfinite(nearest) ? nearest : 0.0));
   }
 

@@ -204,6 +204,17 @@ TEST(Laminate, PartsOfOurOwn) {
   laminate_and_check(cone, "--sheets 3,6", "cone");
 }
 
+TEST(Laminate, ShippedWaterjetFilesAreTheDefaults) {
+  // The files in examples/ spell out the embedded defaults key for key.
+  const std::filesystem::path examples(POLYAXIS_EXAMPLES_DIR);
+  EXPECT_EQ(nlohmann::json::parse(slurp(examples / "machines" / "awj5_head_ac.json")),
+            nlohmann::json::parse(std::string(lamination::default_waterjet_machine_json())));
+  EXPECT_EQ(nlohmann::json::parse(slurp(examples / "processes" / "awj_steel.json")),
+            nlohmann::json::parse(std::string(lamination::default_waterjet_process_json())));
+  EXPECT_TRUE(lamination::parse_waterjet_process(slurp(examples / "processes" / "awj_steel.json"), "awj_steel.json").ok());
+  EXPECT_TRUE(machine::parse_machine(slurp(examples / "machines" / "awj5_head_ac.json"), "awj5_head_ac.json").ok());
+}
+
 TEST(Laminate, BadInputGetsItsExitCode) {
   TempDir dir;
   const std::string dome = (std::filesystem::path(POLYAXIS_PARTS_DIR) / "dome_sphere.stl").string();
