@@ -153,6 +153,7 @@ int run_laminate(LaminateCommandOptions& o) {
 
 Runner add_laminate_command(CLI::App& app) {
   auto o = std::make_shared<LaminateCommandOptions>();
+  o->part.repair.check_self_intersections = false;  // sections take the nonzero union; --strict checks
   CLI::App* cmd = app.add_subcommand("laminate", "Cut a part into sloped-edge sheet layers, nest them and write 5-axis waterjet programs");
   add_part_options(*cmd, o->part);
   cmd->add_option("--sheets", o->sheets, "Sheet thicknesses in stock, mm (e.g. 1,2,3,6)")->required();

@@ -60,7 +60,9 @@ Deviation measure(const SectionStack& stack, const Layer& layer) {
     const auto part_rings = geom2d::rings_of(part);
     const double sloped = geom2d::area_mm2(geom2d::xor_rings(part_rings, geom2d::rings_of(kept_layer_section(layer, h))));
     const double stepped = geom2d::area_mm2(geom2d::xor_rings(part_rings, mid_rings));
-    d.worst_ratio = std::max(d.worst_ratio, sloped / std::max({geom2d::area_mm2(part), mid_area, 1e-12}));
+    // Above the part's top the layer's excess is the sheet's thickness, not its edge: it counts in
+    // the volumes, not in the ratio that chooses the sheet (the top takes the thinnest that covers).
+    if (h < stack.max_z()) d.worst_ratio = std::max(d.worst_ratio, sloped / std::max({geom2d::area_mm2(part), mid_area, 1e-12}));
     d.sloped_mm3 += sloped * dz;
     d.stepped_mm3 += stepped * dz;
   }
@@ -111,7 +113,7 @@ core::Result<Lamination> laminate(const mesh::Mesh& mesh, const LaminateOptions&
 
   Lamination result;
   result.part_volume_mm3 = mesh::signed_volume(mesh);
-  core::Progress progress("laminating", static_cast<std::uint64_t>(std::ceil((stack.max_z() - stack.min_z()) * 1000.0)));
+  core::Progress progress("laminating (µm of height)", static_cast<std::uint64_t>(std::ceil((stack.max_z() - stack.min_z()) * 1000.0)));
   double z = stack.min_z();
   while (stack.max_z() - z > kHeightTolMm) {
     const double remainder = stack.max_z() - z;

@@ -199,8 +199,8 @@ TEST(Laminate, PartsOfOurOwn) {
   // A thin neck: two discs joined by a 3 mm waist, on a stock of two sheets.
   const auto neck = write_part(dir, "neck", revolve(profile([](double z) { const double s = (z - 15.0) / 15.0; return 3.0 + 17.0 * s * s; }, 30.0, 48), 80));
   laminate_and_check(neck, "--sheets 2,4 --area-deviation 0.2", "neck");
-  // A cone leaning 40° in, coarsely tessellated (24 sides).
-  const auto cone = write_part(dir, "cone", frustum(25.0, 25.0 - 30.0 * std::tan(40.0 * kPi / 180.0), 30.0, 24));
+  // A cone leaning 40° in, coarsely tessellated (24 sides), 25 mm tall to a 4 mm top.
+  const auto cone = write_part(dir, "cone", frustum(25.0, 25.0 - 25.0 * std::tan(40.0 * kPi / 180.0), 25.0, 24));
   laminate_and_check(cone, "--sheets 3,6", "cone");
 }
 

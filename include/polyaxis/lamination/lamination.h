@@ -31,6 +31,7 @@
 // area deviation of its sloped edge, max over heights h in the layer of A(S(h) Δ E(h)) / A(S(h)) (S
 // the part's section, E the kept section), is within `area_deviation`, and, when `cusp_mm` is set,
 // the largest gap between a cut and a profile sample is within it; the thinnest sheet when none is.
+// Heights above the part's top count in the deviation volumes, not in the ratio.
 // A top thinner than the thinnest sheet gets the thinnest sheet (its excess is reported).
 #pragma once
 
