@@ -76,8 +76,57 @@ core::Result<Configs> load(const LaminateCommandOptions& o) {
   return c;
 }
 
+// Writes lamination.json, report.html and each sheet's SVG and program as one set (io::OutputSet),
+// the programs last. JSON receives lamination.json's text.
+core::Status write_set(const std::string& dir, const lamination::Lamination& l, const std::vector<lamination::Sheet>& sheets,
+                       const lamination::WaterjetProcess& process, const lamination::LaminateMeta& meta,
+                       const std::vector<std::string>& programs, std::string& json) {
+  auto set = io::OutputSet::open(dir);
+  if (!set) return set.error();
+  json = lamination::lamination_json(l, sheets, meta);
+  if (auto s = set.value().add("lamination.json", json); !s) return s;
+  if (auto s = set.value().add("report.html", lamination::lamination_html(l, sheets, process, meta)); !s) return s;
+  for (std::size_t i = 0; i < sheets.size(); ++i) {
+    if (auto s = set.value().add(fmt::format("sheet_{}.svg", sheets[i].index), lamination::sheet_svg(l, sheets[i], process)); !s) return s;
+  }
+  for (std::size_t i = 0; i < programs.size(); ++i) {
+    if (auto s = set.value().add(meta.programs[i], programs[i], io::Durability::kSynced); !s) return s;
+  }
+  return set.value().commit();
+}
+
+// The warnings (with their count) on stderr, then lamination.json or one line on stdout.
+void print_summary(const LaminateCommandOptions& o, const lamination::Lamination& l, const std::vector<lamination::Sheet>& sheets,
+                   std::size_t warnings, const std::string& json) {
+  std::uint32_t at_limit = 0, holes_closed = 0;
+  for (const auto& layer : l.layers) at_limit += layer.at_jet_limit, holes_closed += layer.holes_closed;
+  if (!l.threshold_met) {
+    std::fprintf(stderr, "polyaxis: warning: some layers exceed --area-deviation %g even on the thinnest sheet (see lamination.json)\n", o.laminate.area_deviation);
+    ++warnings;
+  }
+  if (at_limit > 0) {
+    std::fprintf(stderr, "polyaxis: warning: %u edge samples are steeper than the jet's %g° and are cut at the limit\n", at_limit, o.laminate.max_jet_angle_deg);
+    ++warnings;
+  }
+  if (holes_closed > 0) {
+    std::fprintf(stderr, "polyaxis: warning: %u holes narrow faster than the jet can follow and are left uncut (holes_closed in lamination.json)\n", holes_closed);
+    ++warnings;
+  }
+  if (warnings > 0) std::fprintf(stderr, "polyaxis: %zu warnings\n", warnings);
+  if (o.json) {
+    std::printf("%s", json.c_str());
+    return;
+  }
+  double used = 0.0;
+  for (const auto& s : sheets) used += s.utilisation;
+  std::printf("%zu layers on %zu sheets (mean use %.1f %%), deviation %.1f mm3 sloped vs %.1f mm3 stepped -> %s/lamination.json\n", l.layers.size(),
+              sheets.size(), sheets.empty() ? 0.0 : 100.0 * used / static_cast<double>(sheets.size()), l.sloped_deviation_mm3, l.stepped_deviation_mm3,
+              o.out_dir.c_str());
+}
+
 int run_laminate(LaminateCommandOptions& o) {
   const auto start = std::chrono::steady_clock::now();
+  auto since = [](std::chrono::steady_clock::time_point t) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); };
   double sheet_w = 0, sheet_h = 0;
   if (auto s = parse(o, sheet_w, sheet_h); !s) return report_error(s.error());
   auto configs = load(o);
@@ -89,7 +138,6 @@ int run_laminate(LaminateCommandOptions& o) {
   if (!loaded) return report_error(loaded.error());
   for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str());
 
-  auto since = [](std::chrono::steady_clock::time_point t) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); };
   auto stage = std::chrono::steady_clock::now();
   auto lam = lamination::laminate(loaded.value().repaired.mesh, o.laminate);
   if (!lam) return report_error(lam.error());
@@ -112,40 +160,9 @@ int run_laminate(LaminateCommandOptions& o) {
   }
   meta.seconds = since(start);
   meta.stage_seconds = {{"read", loaded.value().read_s + loaded.value().repair_s}, {"layers", layers_s}, {"nesting", nesting_s}, {"programs", since(stage)}};
-
-  auto set = io::OutputSet::open(o.out_dir);
-  if (!set) return report_error(set.error());
-  const std::string json = lamination::lamination_json(l, sheets.value(), meta);
-  if (auto s = set.value().add("lamination.json", json); !s) return report_error(s.error());
-  if (auto s = set.value().add("report.html", lamination::lamination_html(l, sheets.value(), process, meta)); !s) return report_error(s.error());
-  for (std::size_t i = 0; i < programs.size(); ++i) {
-    const auto& sheet = sheets.value()[i];
-    if (auto s = set.value().add(fmt::format("sheet_{}.svg", sheet.index), lamination::sheet_svg(l, sheet, process)); !s) return report_error(s.error());
-    if (auto s = set.value().add(meta.programs[i], programs[i], io::Durability::kSynced); !s) return report_error(s.error());
-  }
-  if (auto s = set.value().commit(); !s) return report_error(s.error());
-
-  std::size_t warnings = loaded.value().warnings.size();
-  std::uint32_t at_limit = 0;
-  for (const auto& layer : l.layers) at_limit += layer.at_jet_limit;
-  if (!l.threshold_met) {
-    std::fprintf(stderr, "polyaxis: warning: some layers exceed --area-deviation %g even on the thinnest sheet (see lamination.json)\n", o.laminate.area_deviation);
-    ++warnings;
-  }
-  if (at_limit > 0) {
-    std::fprintf(stderr, "polyaxis: warning: %u edge samples are steeper than the jet's %g° and are cut at the limit\n", at_limit, o.laminate.max_jet_angle_deg);
-    ++warnings;
-  }
-  if (warnings > 0) std::fprintf(stderr, "polyaxis: %zu warnings\n", warnings);
-  if (o.json) {
-    std::printf("%s", json.c_str());
-  } else {
-    double used = 0.0;
-    for (const auto& s : sheets.value()) used += s.utilisation;
-    std::printf("%zu layers on %zu sheets (mean use %.1f %%), deviation %.1f mm3 sloped vs %.1f mm3 stepped -> %s/lamination.json\n", l.layers.size(),
-                sheets.value().size(), sheets.value().empty() ? 0.0 : 100.0 * used / static_cast<double>(sheets.value().size()), l.sloped_deviation_mm3,
-                l.stepped_deviation_mm3, o.out_dir.c_str());
-  }
+  std::string json;
+  if (auto s = write_set(o.out_dir, l, sheets.value(), process, meta, programs, json); !s) return report_error(s.error());
+  print_summary(o, l, sheets.value(), loaded.value().warnings.size(), json);
   return 0;
 }
 
