@@ -20,6 +20,8 @@ constexpr std::size_t kMaxSimpleCheck = 512;
 // Cut slopes below this (0.57°) are vertical: at most 0.06 mm of excess over a 6 mm sheet, and no
 // head left turning C about its pole between a vertical wall and the next tilt.
 constexpr double kVerticalSlope = 1e-2;
+// Ternary steps of the least-excess cut's slope: (2/3)^100 of the jet's range, below 1e-17.
+constexpr int kSlopeSearchSteps = 100;
 constexpr int kMinDenseSteps = 8;
 constexpr int kMaxDenseSteps = 64;
 
@@ -209,6 +211,42 @@ class LayerEdges {
     return cut;
   }
 
+  // The one cut that keeps the least material beyond the profile without leaving a profile point
+  // outside it: a line a + s·(h − c) (c the mean height with material) with a ≥ r_j − s·(h_j − c)
+  // for every point, whose mean excess over those heights is a − mean(r), so the least a(s) over
+  // the slopes the jet reaches. a(s) is the upper envelope of lines in s, convex: a ternary search
+  // finds it. On a concave or straight profile this is the chord from bottom to top; at a step it
+  // may be vertical or at the jet's limit, whichever keeps less.
+  Cut least_excess_line(const Profile& pr, bool& limited) const {
+    double c = 0.0;
+    int count = 0;
+    for (std::size_t j = 0; j < pr.h.size(); ++j) {
+      if (pr.found[j]) c += pr.h[j], ++count;
+    }
+    if (count == 0) return Cut{0.0, 0.0};
+    c /= count;
+    auto a_of = [&](double slope) {
+      double a = -INFINITY;
+      for (std::size_t j = 0; j < pr.h.size(); ++j) {
+        if (pr.found[j]) a = std::max(a, pr.r[j] - slope * (pr.h[j] - c));
+      }
+      return a;
+    };
+    double lo = -tan_limit_, hi = tan_limit_;
+    for (int i = 0; i < kSlopeSearchSteps; ++i) {
+      const double m1 = lo + (hi - lo) / 3.0, m2 = hi - (hi - lo) / 3.0;
+      if (a_of(m1) <= a_of(m2)) {
+        hi = m2;
+      } else {
+        lo = m1;
+      }
+    }
+    double slope = 0.5 * (lo + hi);
+    if (std::fabs(slope) > tan_limit_ * (1.0 - 1e-6)) limited = true;
+    if (std::fabs(slope) < kVerticalSlope) slope = 0.0;
+    return Cut{a_of(slope) + slope * (z_mid_ - c), slope};
+  }
+
   EdgeKind classify(const Profile& pr) const {
     if (std::find(pr.found.begin(), pr.found.end(), false) != pr.found.end()) return EdgeKind::kConcave;  // the material ends or steps: one cut
     bool bulge = false, hollow = false;
@@ -242,12 +280,7 @@ class LayerEdges {
         s.cuts.push_back(line_through(pr.h[j], pr.r[j], clamp_slope(slope, limited), pr));
       }
     } else {
-      // The chord between the lowest and the highest heights with material.
-      std::size_t lo = 0, hi = pr.h.size() - 1;
-      while (lo < hi && !pr.found[lo]) ++lo;
-      while (hi > lo && !pr.found[hi]) --hi;
-      const double slope = hi > lo ? (pr.r[hi] - pr.r[lo]) / (pr.h[hi] - pr.h[lo]) : 0.0;
-      s.cuts.push_back(line_through(pr.h[lo], pr.r[lo], clamp_slope(slope, limited), pr));
+      s.cuts.push_back(least_excess_line(pr, limited));
     }
     s.at_jet_limit = limited;
     for (std::size_t j = 0; j < pr.h.size(); ++j) {

@@ -69,6 +69,24 @@ Deviation measure(const SectionStack& stack, const Layer& layer) {
   return d;
 }
 
+// The layer cut with vertical edges that keep all its material (each layer at the union of the
+// part's sections over its height), against the part: the stair step that, like the sloped edge,
+// never gouges.
+double covering_mm3(const SectionStack& stack, const Layer& layer) {
+  const auto heights = deviation_heights(layer);
+  const double dz = layer.thickness_mm / static_cast<double>(heights.size());
+  std::vector<std::vector<geom2d::Ring>> parts;
+  std::vector<geom2d::Ring> all;
+  for (double h : heights) {
+    parts.push_back(geom2d::rings_of(stack.at(h)));
+    all.insert(all.end(), parts.back().begin(), parts.back().end());
+  }
+  const auto cover = geom2d::rings_of(geom2d::union_rings(all, geom2d::FillRule::kNonZero));
+  double v = 0.0;
+  for (const auto& part : parts) v += geom2d::area_mm2(geom2d::xor_rings(part, cover)) * dz;
+  return v;
+}
+
 core::Status validate(const LaminateOptions& o) {
   if (o.sheets_mm.empty()) return core::make_error(core::ErrorCode::kUsage, "--sheets: give at least one sheet thickness");
   for (double t : o.sheets_mm) {
@@ -139,6 +157,7 @@ core::Result<Lamination> laminate(const mesh::Mesh& mesh, const LaminateOptions&
     layer.area_deviation = chosen->deviation.worst_ratio;
     result.sloped_deviation_mm3 += chosen->deviation.sloped_mm3;
     result.stepped_deviation_mm3 += chosen->deviation.stepped_mm3;
+    result.covering_deviation_mm3 += covering_mm3(stack, chosen->layer);
     z += layer.thickness_mm;
     result.layers.push_back(std::move(layer));
     progress.update(static_cast<std::uint64_t>(std::min(z - stack.min_z(), stack.max_z() - stack.min_z()) * 1000.0));

@@ -97,6 +97,7 @@ std::string lamination_json(const Lamination& lam, const std::vector<Sheet>& she
               {"part_volume_mm3", lam.part_volume_mm3},
               {"sloped_deviation_mm3", lam.sloped_deviation_mm3},
               {"stepped_deviation_mm3", lam.stepped_deviation_mm3},
+              {"covering_deviation_mm3", lam.covering_deviation_mm3},
               {"seconds", meta.seconds},
               {"stage_seconds", [&] {
                  json t = json::object();
@@ -263,8 +264,8 @@ figure{{display:inline-block;margin:0.5em;vertical-align:top}} figure svg{{width
 <body>
 <h1>Lamination of {part}</h1>
 <p>{layers} layers from the stock {stock} mm (area deviation ≤ {dev:g}, jet within {jet:g}°), on {sheets} sheets; machine {machine}, process {process}.</p>
-<p>Symmetric difference with the part: sloped edges <b id="sloped">{sloped:.1f} mm³</b>, vertical edges at the same layers <b id="stepped">{stepped:.1f} mm³</b>
-(part {volume:.1f} mm³).</p>
+<p>Symmetric difference with the part: sloped edges <b id="sloped">{sloped:.1f} mm³</b>, vertical edges at the same layers <b id="stepped">{stepped:.1f} mm³</b>,
+vertical edges that keep all the material (no gouge, as the sloped edges) <b id="covering">{covering:.1f} mm³</b> (part {volume:.1f} mm³).</p>
 <h2>The stack (drag to turn)</h2>
 <canvas id="view" width="720" height="520"></canvas>
 <h2>Sheets</h2>
@@ -279,7 +280,7 @@ figure{{display:inline-block;margin:0.5em;vertical-align:top}} figure svg{{width
                      fmt::arg("part", escape(meta.part)), fmt::arg("layers", lam.layers.size()), fmt::arg("stock", fmt::join(meta.sheets_mm, ", ")),
                      fmt::arg("dev", meta.area_deviation), fmt::arg("jet", meta.max_jet_angle_deg), fmt::arg("sheets", sheets.size()),
                      fmt::arg("machine", escape(meta.machine)), fmt::arg("process", escape(meta.process)), fmt::arg("sloped", lam.sloped_deviation_mm3),
-                     fmt::arg("stepped", lam.stepped_deviation_mm3), fmt::arg("volume", lam.part_volume_mm3), fmt::arg("sheet_blocks", sheet_blocks),
+                     fmt::arg("stepped", lam.stepped_deviation_mm3), fmt::arg("covering", lam.covering_deviation_mm3), fmt::arg("volume", lam.part_volume_mm3), fmt::arg("sheet_blocks", sheet_blocks),
                      fmt::arg("rows", rows), fmt::arg("stack", safe_stack), fmt::arg("script", kPageScript));
 }
 

@@ -123,6 +123,9 @@ struct Lamination {
   // the sloped-edge stack, and the same layers with vertical edges at their mid-height section.
   double sloped_deviation_mm3 = 0.0;
   double stepped_deviation_mm3 = 0.0;
+  // The same layers with vertical edges that keep all their material (the union of the part's
+  // sections over each layer's height): the stair step that, like the sloped edge, never gouges.
+  double covering_deviation_mm3 = 0.0;
   bool threshold_met = true;  // false when some layer took the thinnest sheet without meeting the limits
 };
 
