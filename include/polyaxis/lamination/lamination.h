@@ -22,8 +22,14 @@
 // - Convex edges (the profile bulges out: r concave in h over the sub-slices, Hayasi §3-3/3-4) are
 //   cut once per sub-slice k, each along the facet's line at the sub-slice's middle height: the
 //   kept material is bounded by the lowest of these lines, which lie outside a convex profile.
-//   Concave, straight and mixed edges are cut once, along the chord from the bottom to the top of
-//   the profile. Every line is moved out until no profile sample is outside it (no gouge).
+//   Concave, straight and mixed edges, and profiles where the material ends or steps within the
+//   layer, are cut once, along the line within the jet's limit that keeps the least material beyond
+//   the profile without leaving a point of it outside (the chord from bottom to top on a concave or
+//   straight profile; vertical or at the limit at a step, whichever keeps less).
+// - No gouge: every line is moved out until no profile point is outside it. A line steeper than the
+//   jet's limit is cut at the limit and moved out likewise (counted as at the limit): the layer keeps
+//   excess material there, never less than the part. A hole that would close within the layer is
+//   not cut (Layer::holes_closed).
 // - The kept edge at height h is then min over the sample's cuts of r(h); the kept section at h is
 //   the polygon of the reference samples moved out by it.
 //
