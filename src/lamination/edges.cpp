@@ -20,8 +20,8 @@ constexpr std::size_t kMaxSimpleCheck = 512;
 // Cut slopes below this (0.57°) are vertical: at most 0.06 mm of excess over a 6 mm sheet, and no
 // head left turning C about its pole between a vertical wall and the next tilt.
 constexpr double kVerticalSlope = 1e-2;
-// Ternary steps of the least-excess cut's slope: (2/3)^100 of the jet's range, below 1e-17.
-constexpr int kSlopeSearchSteps = 100;
+// Ternary steps of the least-excess cut's slope: (2/3)^60 of the jet's range, about 3e-11.
+constexpr int kSlopeSearchSteps = 60;
 constexpr int kMinDenseSteps = 8;
 constexpr int kMaxDenseSteps = 64;
 
