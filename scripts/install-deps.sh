@@ -14,6 +14,8 @@ packages=(
   libcli11-dev libfmt-dev libxml2-dev libnest2d-dev libnlopt-cxx-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # the Python module (python/): pybind11 and numpy; its tests and example: pytest and matplotlib
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   # real meshes for the end-to-end plans (OpenCASCADE sample data; LinuxCNC ships machine models)
   occt-misc
   # a real G-code interpreter (rs274) for tests/unit/machine/test_rs274.cpp

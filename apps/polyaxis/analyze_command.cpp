@@ -2,7 +2,6 @@
 // and the region tree; writes DIR/analysis.json and DIR/region_<id>.stl (schema: docs/analyze.md).
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,18 +9,12 @@
 #include "commands.h"
 #include "root_base_option.h"
 #include "part_options.h"
-#include "polyaxis/analysis/centroidal_axis.h"
-#include "polyaxis/analysis/decompose.h"
-#include "polyaxis/analysis/overhang_map.h"
-#include "polyaxis/analysis/skeleton.h"
 #include "polyaxis/io/stl_writer.h"
 #include "polyaxis/io/write_file.h"
-#include "polyaxis/report/analysis_json.h"
+#include "polyaxis/report/analyze.h"
 
 namespace polyaxis::app {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct AnalyzeOptions {
   PartOptions part;
@@ -39,68 +32,41 @@ int run_analyze(const AnalyzeOptions& o) {
   if (!loaded) return report_error(loaded.error());
   for (const auto& w : loaded.value().warnings) std::fprintf(stderr, "polyaxis: warning: %s\n", w.c_str());
   const mesh::RepairedMesh& part = loaded.value().repaired;
-  using Clock = std::chrono::steady_clock;
-  auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
-  report::AnalysisTimes times;
   auto root_base = parse_root_base(o.root_base);
   if (!root_base) return report_error(root_base.error());
-  auto root_dir = analysis::root_direction(part.mesh, root_base.value(), {0, 0, 1});
-  if (!root_dir) return report_error(root_dir.error());
-  const core::Vec3 up = root_dir.value();
-
-  auto t = Clock::now();
-  const analysis::OverhangMap overhang = analysis::overhang_map(part.mesh, part.topology, up, o.self_supporting_deg * kPi / 180.0);
-  times.overhang_s = since(t);
-
-  t = Clock::now();
-  analysis::CentroidalAxisOptions axis_options;
-  axis_options.start_direction = analysis::nearest_major_direction(up);
-  axis_options.break_angle_deg = o.break_angle_deg;
-  auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
-  if (!axis) return report_error(axis.error());
-  times.axis_s = since(t);
-
-  std::optional<analysis::SkeletonGraph> skeleton;
-  if (o.skeleton) {
-    t = Clock::now();
-    analysis::SkeletonOptions so;
-    so.field.voxel_mm = o.voxel_mm;
-    auto sk = analysis::skeleton(part.mesh, so);
-    if (!sk) return report_error(sk.error());
-    skeleton = std::move(sk.value());
-    times.skeleton_s = since(t);
-  }
-
-  t = Clock::now();
-  analysis::DecomposeOptions dopt;
-  dopt.root_direction = up;
-  dopt.root_base = root_base.value();
-  dopt.self_supporting_deg = o.self_supporting_deg;
-  auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
-  if (!tree) return report_error(tree.error());
-  times.decompose_s = since(t);
+  report::AnalyzeOptions options;
+  options.root_base = root_base.value();
+  options.skeleton = o.skeleton;
+  options.voxel_mm = o.voxel_mm;
+  options.self_supporting_deg = o.self_supporting_deg;
+  options.break_angle_deg = o.break_angle_deg;
+  auto analyzed = report::analyze_part(part, options);
+  if (!analyzed) return report_error(analyzed.error());
+  const report::PartAnalysis& a = analyzed.value();
+  const analysis::OverhangMap& overhang = a.overhang;
+  const analysis::RegionTree& tree = a.tree;
 
   std::error_code ec;
   std::filesystem::create_directories(o.out_dir, ec);
   if (ec) return report_error(core::make_error(core::ErrorCode::kOutput, fmt::format("{}: cannot create: {}", o.out_dir, ec.message())));
-  for (const analysis::Region& r : tree.value().regions) {
+  for (const analysis::Region& r : tree.regions) {
     const std::string bytes = io::binary_stl(io::RawMesh{r.mesh.vertices, r.mesh.triangles}, fmt::format("polyaxis region {}", r.id));
     if (auto s = io::write_file_atomic(fmt::format("{}/region_{}.stl", o.out_dir, r.id), bytes, io::Durability::kAtomic); !s) {
       return report_error(s.error());
     }
   }
-  const std::string text = report::analysis_json(o.part.path, overhang, axis.value(), skeleton, tree.value(), times);
+  const std::string text = report::analysis_json(o.part.path, overhang, a.axis, a.skeleton, tree, a.times);
   if (auto s = io::write_file_atomic(o.out_dir + "/analysis.json", text, io::Durability::kAtomic); !s) return report_error(s.error());
   if (o.json) {
     std::fputs(text.c_str(), stdout);
   } else {
     std::size_t breaks = 0, unsupported = 0;
-    for (const auto& l : axis.value().links) breaks += l.is_break ? 1 : 0;
-    for (const auto& r : tree.value().regions) unsupported += r.support_free ? 0 : 1;
+    for (const auto& l : a.axis.links) breaks += l.is_break ? 1 : 0;
+    for (const auto& r : tree.regions) unsupported += r.support_free ? 0 : 1;
     std::printf("overhang %.1f mm2 in %zu patches; centroidal axis %zu nodes, %zu branches, %zu break links; %zu regions (%zu not "
                 "support-free) -> %s/analysis.json\n",
-                overhang.area_mm2, overhang.patches.size(), axis.value().nodes.size(), axis.value().branches.size(), breaks,
-                tree.value().regions.size(), unsupported, o.out_dir.c_str());
+                overhang.area_mm2, overhang.patches.size(), a.axis.nodes.size(), a.axis.branches.size(), breaks,
+                tree.regions.size(), unsupported, o.out_dir.c_str());
   }
   return 0;
 }

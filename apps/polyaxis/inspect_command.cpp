@@ -4,11 +4,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "part_options.h"
 #include "polyaxis/mesh/properties.h"
+#include "polyaxis/report/analyze.h"
 
 namespace polyaxis::app {
 namespace {
@@ -20,8 +20,6 @@ struct InspectOptions {
 };
 
 constexpr double kPi = 3.14159265358979323846;
-
-nlohmann::json vec_json(core::Vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 
 int run_inspect(const InspectOptions& options) {
   auto loaded = load_part(options.part);
@@ -40,44 +38,8 @@ int run_inspect(const InspectOptions& options) {
   if (!part.warnings.empty()) std::fprintf(stderr, "polyaxis: %zu warnings\n", part.warnings.size());
 
   if (options.json) {
-    nlohmann::json j;
-    j["file"] = options.part.path;
-    j["format"] = io::format_name(part.format);
-    j["triangles"] = m.triangles.size();
-    j["vertices"] = m.vertices.size();
-    j["bbox"] = {{"min", vec_json(box.min)}, {"max", vec_json(box.max)}, {"size", vec_json(box.size())}};
-    j["volume_mm3"] = volume;
-    j["area_mm2"] = area;
-    j["shells"] = part.repaired.shells.size();
-    j["cavities"] = cavities;
-    nlohmann::json shells = nlohmann::json::array();
-    for (const auto& s : part.repaired.shells) {
-      shells.push_back({{"faces", s.face_count}, {"volume_mm3", s.volume_mm3}, {"area_mm2", s.area_mm2}, {"cavity", s.cavity}});
-    }
-    j["shell_list"] = shells;
-    j["watertight"] = part.repaired.watertight;
-    j["manifold"] = part.repaired.manifold;
-    j["outward"] = volume > 0.0;
-    j["self_intersecting_faces"] = r.self_intersecting_faces;
-    j["self_intersections_checked"] = options.part.repair.check_self_intersections;
-    j["repairs"] = {{"merged_vertices", r.merged_vertices},
-                    {"unused_vertices", r.unused_vertices},
-                    {"degenerate_faces", r.degenerate_faces},
-                    {"duplicate_faces", r.duplicate_faces},
-                    {"nonmanifold_edges", r.nonmanifold_edges},
-                    {"split_vertices", r.split_vertices},
-                    {"flipped_faces", r.flipped_faces},
-                    {"inverted_shells", r.inverted_shells},
-                    {"holes_filled", r.holes_filled},
-                    {"hole_faces_added", r.hole_faces_added},
-                    {"open_holes", r.open_holes},
-                    {"interior_shells_removed", r.interior_shells_removed}};
-    j["overhang_direction"] = {0.0, 0.0, 1.0};
-    j["self_supporting_deg"] = options.self_supporting_deg;
-    j["overhang_area_mm2"] = overhang;
-    j["warnings"] = part.warnings;
-    j["timings_s"] = {{"read", part.read_s}, {"repair", part.repair_s}};
-    std::printf("%s\n", j.dump(2).c_str());
+    std::printf("%s\n", report::inspect_json(part, options.part.path, options.self_supporting_deg,
+                                             options.part.repair.check_self_intersections).c_str());
     return 0;
   }
   std::printf("file          %s\n", options.part.path.c_str());

@@ -5,8 +5,7 @@
 #include <string>
 
 #include "polyaxis/core/result.h"
-#include "polyaxis/io/read_part.h"
-#include "polyaxis/mesh/repair.h"
+#include "polyaxis/mesh/load_part.h"
 
 namespace polyaxis::app {
 
@@ -15,28 +14,15 @@ namespace polyaxis::app {
 extern const CLI::Validator kFinite;
 extern const CLI::Validator kFinitePositive;
 
-struct PartOptions {
-  std::string path;
-  double scale = 1.0;
-  io::ReadOptions read;
-  mesh::RepairOptions repair;
-};
+// The part's file and how to read and repair it (mesh::load_part).
+using PartOptions = mesh::LoadOptions;
 
 void add_part_options(CLI::App& command, PartOptions& options);
 
 // TEXT as a finite number, or kUsage naming WHAT ("--dir: 'x' is not a finite number").
 core::Result<double> parse_number(const std::string& text, const std::string& what);
 
-// Everything a command knows about a part after reading and repair.
-struct LoadedPart {
-  io::Format format = io::Format::kStlBinary;
-  mesh::RepairedMesh repaired;
-  std::vector<std::string> warnings;  // reader's and repair's, one line each
-  double read_s = 0.0;
-  double repair_s = 0.0;
-};
-
-// Reads, scales and repairs OPTIONS.path. Errors carry the exit class.
-core::Result<LoadedPart> load_part(const PartOptions& options);
+using LoadedPart = mesh::LoadedPart;
+using mesh::load_part;
 
 }  // namespace polyaxis::app

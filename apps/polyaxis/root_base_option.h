@@ -4,15 +4,12 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "polyaxis/analysis/decompose.h"
-#include "polyaxis/core/result.h"
+#include "polyaxis/analysis/root_base.h"
 
 namespace polyaxis::app {
 
 void add_root_base_option(CLI::App& cmd, std::string& text);
 
-// TEXT as a RootBase: "" (auto), "z-min", a face id, or a plane "px,py,pz,nx,ny,nz" (a point and
-// the root's build direction). kUsage naming --root-base otherwise.
-core::Result<analysis::RootBase> parse_root_base(const std::string& text);
+using analysis::parse_root_base;
 
 }  // namespace polyaxis::app

@@ -10,6 +10,7 @@
 #include "part_options.h"
 #include "polyaxis/io/text_file.h"
 #include "polyaxis/verify/simulate.h"
+#include "polyaxis/report/plan_files.h"
 #include "polyaxis/report/plan_view.h"
 
 namespace polyaxis::app {
@@ -42,21 +43,7 @@ int run_simulate(const SimulateOptions& o) {
   if (!sim) return report_error(sim.error());
   const verify::SimulationReport& r = sim.value();
   if (o.json) {
-    nlohmann::ordered_json j;
-    j["moves"] = r.moves;
-    j["rapid_moves"] = r.rapid_moves;
-    j["path_length_mm"] = r.path_length_mm;
-    j["deposit_length_mm"] = r.deposit_length_mm;
-    j["feed_time_s"] = r.feed_time_s;
-    auto span = [](const verify::AxisSpan& s) { return s.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json::array({s.min, s.max}); };
-    j["axis_ranges"] = {{"x", span(r.x_mm)}, {"y", span(r.y_mm)}, {"z", span(r.z_mm)}, {"tilt", span(r.a_or_b_deg)}, {"c", span(r.c_deg)}};
-    j["limit_violations"] = r.limit_violations;
-    j["violations"] = r.violations;
-    j["program_end"] = r.program_end;
-    j["compared_with_plan"] = r.compared_with_plan;
-    j["max_tip_deviation_mm"] = r.max_tip_deviation_mm;
-    j["max_axis_deviation_deg"] = r.max_axis_deviation_deg;
-    std::printf("%s\n", j.dump(2).c_str());
+    std::printf("%s\n", report::simulation_json(r).c_str());
   } else {
     std::printf("%llu moves, path %.1f mm, %.0f s at the programmed feeds, %llu limit violations",
                 static_cast<unsigned long long>(r.moves), r.path_length_mm, r.feed_time_s, static_cast<unsigned long long>(r.limit_violations));

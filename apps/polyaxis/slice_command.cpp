@@ -72,12 +72,7 @@ core::Status parse(SliceCommandOptions& o) {
     }
   }
   if (o.tilted) {
-    // Tilted layers take the thickness range and the voldiff and overhang limits (slice.h).
-    if (o.slice.limits.cusp_mm || o.slice.limits.area_deviation || o.slice.snap_mm > 0.0 || !o.slice.thickness_stock_mm.empty()) {
-      return core::make_error(core::ErrorCode::kUsage,
-                              "--tilted takes --layer (the step on the axis), --min, --max and --adaptive voldiff=,overhang=; cusp, "
-                              "area, --snap and --thicknesses are for planar layers");
-    }
+    // Tilted layers take --adaptive's voldiff and overhang limits without being adaptive planar ones.
     o.slice.tilted = true;
     o.slice.adaptive = false;
   }

@@ -14,23 +14,68 @@ constexpr auto kFirstShow = std::chrono::seconds(1);
 constexpr auto kTerminalRedraw = std::chrono::milliseconds(200);
 constexpr auto kPlainRedraw = std::chrono::seconds(5);
 
+constexpr auto kCallbackInterval = std::chrono::milliseconds(200);
+
+// The callback of the innermost ProgressScope on this thread.
+thread_local std::shared_ptr<const ProgressCallback> t_callback;
+
 bool stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
 
 }  // namespace
 
 void set_progress_mode(ProgressMode mode) { g_mode = mode; }
 
+ProgressScope::ProgressScope(ProgressCallback callback) {
+  if (!callback) return;
+  active_ = true;
+  previous_ = std::move(t_callback);
+  t_callback = std::make_shared<const ProgressCallback>(std::move(callback));
+}
+
+ProgressScope::ProgressScope(std::shared_ptr<const ProgressCallback> callback) {
+  if (!callback) return;
+  active_ = true;
+  previous_ = std::move(t_callback);
+  t_callback = std::move(callback);
+}
+
+std::shared_ptr<const ProgressCallback> ProgressScope::current() { return t_callback; }
+
+ProgressScope::~ProgressScope() {
+  if (active_) t_callback = std::move(previous_);
+}
+
 Progress::Progress(std::string stage, std::uint64_t total)
-    : stage_(std::move(stage)), total_(total), start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
+    : callback_(t_callback), stage_(std::move(stage)), total_(total), start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
 
 Progress::~Progress() {
+  if (callback_) {
+    send(total_ ? total_ : done_, true);
+    return;
+  }
   if (shown_) {
     draw(total_ ? total_ : done_, true);
     if (stderr_is_terminal()) std::fputc('\n', stderr);
   }
 }
 
-void Progress::update(std::uint64_t done) { draw(done, false); }
+void Progress::update(std::uint64_t done) {
+  if (callback_) {
+    send(done, false);
+  } else {
+    draw(done, false);
+  }
+}
+
+void Progress::send(std::uint64_t done, bool last) {
+  done_ = done;
+  const auto now = std::chrono::steady_clock::now();
+  // A callback hears every stage from its start, at most every kCallbackInterval, and its end.
+  if (shown_ && !last && now - last_draw_ < kCallbackInterval) return;
+  shown_ = true;
+  last_draw_ = now;
+  (*callback_)(ProgressEvent{stage_, done, total_, last});
+}
 
 void Progress::draw(std::uint64_t done, bool last) {
   done_ = done;

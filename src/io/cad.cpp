@@ -15,10 +15,12 @@
 // apart from the helper's own exit codes.
 //
 // The helper is looked for, in this order, at $POLYAXIS_CAD_IMPORTER, next to the running
-// executable (/proc/self/exe), and at the build-tree path CMake bakes in
-// (POLYAXIS_CAD_IMPORTER_DEFAULT). The test hooks POLYAXIS_CAD_TEST_CRASH / _HANG are read there.
+// executable (/proc/self/exe), next to the shared object holding this code (the installed
+// libpolyaxis.so or the Python module, found with dladdr) and in ../bin from it, and at the
+// build-tree path CMake bakes in (POLYAXIS_CAD_IMPORTER_DEFAULT). The test hooks POLYAXIS_CAD_TEST_CRASH / _HANG are read there.
 #include "polyaxis/io/cad.h"
 
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/resource.h>
@@ -111,7 +113,7 @@ bool is_executable_file(const std::string& path) {
   return !path.empty() && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
 }
 
-// $POLYAXIS_CAD_IMPORTER, then next to the running executable, then the build-tree default.
+// $POLYAXIS_CAD_IMPORTER, next to the running executable, beside this shared object, then the build-tree default.
 std::optional<std::string> find_importer() {
   if (const char* env = std::getenv(kImporterEnv); env != nullptr && is_executable_file(env)) return std::string(env);
   std::array<char, 4096> self{};
@@ -120,6 +122,13 @@ std::optional<std::string> find_importer() {
     const std::filesystem::path beside =
         std::filesystem::path(std::string(self.data(), static_cast<std::size_t>(n))).parent_path() / kImporterName;
     if (is_executable_file(beside.string())) return beside.string();
+  }
+  Dl_info info{};
+  if (::dladdr(reinterpret_cast<const void*>(&is_executable_file), &info) != 0 && info.dli_fname != nullptr) {
+    const std::filesystem::path dir = std::filesystem::path(info.dli_fname).parent_path();
+    for (const std::filesystem::path& candidate : {dir / kImporterName, dir / ".." / "bin" / kImporterName}) {
+      if (is_executable_file(candidate.string())) return candidate.string();
+    }
   }
   if (is_executable_file(POLYAXIS_CAD_IMPORTER_DEFAULT)) return std::string(POLYAXIS_CAD_IMPORTER_DEFAULT);
   return std::nullopt;

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/global_control.h>
+#include "core/arena.h"
 #include <tbb/parallel_for.h>
 
 #include "edges.h"
@@ -112,17 +112,14 @@ struct Candidate {
   bool meets = false;
 };
 
-}  // namespace
 
-core::Result<Lamination> laminate(const mesh::Mesh& mesh, const LaminateOptions& options_in) {
-  if (auto s = validate(options_in); !s) return s.error();
+
+core::Result<Lamination> laminate_in_arena(const mesh::Mesh& mesh, const LaminateOptions& options_in) {
   LaminateOptions o = options_in;
   std::sort(o.sheets_mm.begin(), o.sheets_mm.end(), std::greater<>());
   o.sheets_mm.erase(std::unique(o.sheets_mm.begin(), o.sheets_mm.end()), o.sheets_mm.end());
   const double thinnest = o.sheets_mm.back();
   if (o.subslice_mm <= 0.0) o.subslice_mm = thinnest;
-  std::optional<tbb::global_control> threads;
-  if (o.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(o.threads));
 
   const SectionStack stack(mesh);
   const mesh::SurfaceDistance surface(mesh);
@@ -163,6 +160,14 @@ core::Result<Lamination> laminate(const mesh::Mesh& mesh, const LaminateOptions&
     progress.update(static_cast<std::uint64_t>(std::min(z - stack.min_z(), stack.max_z() - stack.min_z()) * 1000.0));
   }
   return result;
+}
+
+}  // namespace
+
+core::Result<Lamination> laminate(const mesh::Mesh& mesh, const LaminateOptions& options) {
+  if (auto s = validate(options); !s) return s.error();
+  core::ProgressScope scope(options.progress);
+  return core::with_threads(options.threads, [&] { return laminate_in_arena(mesh, options); });
 }
 
 }  // namespace polyaxis::lamination

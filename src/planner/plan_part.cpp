@@ -14,6 +14,7 @@
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/self_intersections.h"
 #include "polyaxis/post/traori.h"
+#include "core/arena.h"
 #include "reach.h"
 
 namespace polyaxis::planner {
@@ -467,13 +468,16 @@ core::Status program_of(const machine::MachineConfig& machine, const process::Pr
   // text independently: side by side.
   std::optional<core::Result<verify::SimulationReport>> sim;
   std::optional<core::Result<verify::BuildCheck>> check;
+  const auto progress = core::ProgressScope::current();  // each side may run on a worker thread
   tbb::parallel_invoke(
       [&] {
+        const core::ProgressScope scope(progress);
         const auto t = Clock::now();
         sim.emplace(verify::simulate(machine, out.gcode, plan.program, &process, options.gcode.chordal_mm));
         out.simulate_s = since(t);
       },
       [&] {
+        const core::ProgressScope scope(progress);
         const auto t = Clock::now();
         check.emplace(verify::verify_build(machine, process, plan.build_model, out.gcode));
         out.verify_s = since(t);
@@ -667,8 +671,10 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
 
 }  // namespace
 
-core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                       const process::ProcessConfig& process, const PlanPartOptions& asked) {
+namespace {
+
+core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                                const process::ProcessConfig& process, const PlanPartOptions& asked) {
   PlanPartOptions options = asked;
   if (options.gcode.part == nullptr) options.gcode.part = &part.mesh;  // the posts that carry the part (3MF toolpath)
   auto first = plan_part_as_asked(part, machine, process, options);
@@ -695,6 +701,14 @@ core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const mac
     for (PlanRegion& r : kept.plan.placed_regions) r.layers_rule = kLayersPlanar, r.layers_why = "the plan on planar layers is the better: " + versus;
   }
   return std::move(kept);
+}
+
+}  // namespace
+
+core::Result<PlanPartResult> plan_part(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                       const process::ProcessConfig& process, const PlanPartOptions& options) {
+  core::ProgressScope scope(options.progress);
+  return core::with_threads(options.plan.threads, [&] { return plan_part_in_arena(part, machine, process, options); });
 }
 
 }  // namespace polyaxis::planner

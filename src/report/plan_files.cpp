@@ -110,4 +110,22 @@ std::string timings_json(const planner::Plan& plan, const PlanMeta& meta) {
   return j.dump(2) + "\n";
 }
 
+std::string simulation_json(const verify::SimulationReport& r) {
+  nlohmann::ordered_json j;
+  j["moves"] = r.moves;
+  j["rapid_moves"] = r.rapid_moves;
+  j["path_length_mm"] = r.path_length_mm;
+  j["deposit_length_mm"] = r.deposit_length_mm;
+  j["feed_time_s"] = r.feed_time_s;
+  auto span = [](const verify::AxisSpan& s) { return s.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json::array({s.min, s.max}); };
+  j["axis_ranges"] = {{"x", span(r.x_mm)}, {"y", span(r.y_mm)}, {"z", span(r.z_mm)}, {"tilt", span(r.a_or_b_deg)}, {"c", span(r.c_deg)}};
+  j["limit_violations"] = r.limit_violations;
+  j["violations"] = r.violations;
+  j["program_end"] = r.program_end;
+  j["compared_with_plan"] = r.compared_with_plan;
+  j["max_tip_deviation_mm"] = r.max_tip_deviation_mm;
+  j["max_axis_deviation_deg"] = r.max_axis_deviation_deg;
+  return j.dump(2);
+}
+
 }  // namespace polyaxis::report

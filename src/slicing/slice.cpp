@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/global_control.h>
+#include "core/arena.h"
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -69,6 +69,12 @@ core::Status validate(const SliceOptions& o) {
   if (!core::is_finite(o.direction) || core::norm(o.direction) < 1e-12) {
     return make_error(ErrorCode::kUsage, "--dir: the direction must be a finite non-zero vector");
   }
+  // Tilted layers take the thickness range and the voldiff and overhang limits.
+  if (o.tilted && (o.limits.cusp_mm || o.limits.area_deviation || o.snap_mm > 0.0 || !o.thickness_stock_mm.empty())) {
+    return make_error(ErrorCode::kUsage,
+                      "--tilted takes --layer (the step on the axis), --min, --max and --adaptive voldiff=,overhang=; cusp, "
+                      "area, --snap and --thicknesses are for planar layers");
+  }
   if (o.conformal_base && (o.conformal_base->empty() || !finite_positive(o.conformal_edge_mm))) {
     return make_error(ErrorCode::kUsage, "conformal layers: the base surface has no faces");
   }
@@ -98,13 +104,18 @@ core::Status validate(const SliceOptions& o) {
   return {};
 }
 
+namespace {
+core::Result<SliceResult> slice_in_arena(const mesh::Mesh& mesh, const SliceOptions& options, const mesh::EdgeTopology* topology);
+}  // namespace
+
 core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& options, const mesh::EdgeTopology* topology) {
   if (auto s = validate(options); !s) return s.error();
   if (mesh.triangles.empty()) return make_error(ErrorCode::kInvalidInput, "nothing to slice: the mesh has no faces");
-  std::unique_ptr<tbb::global_control> limit;
-  if (options.threads > 0) {
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
-  }
+  return core::with_threads(options.threads, [&] { return slice_in_arena(mesh, options, topology); });
+}
+
+namespace {
+core::Result<SliceResult> slice_in_arena(const mesh::Mesh& mesh, const SliceOptions& options, const mesh::EdgeTopology* topology) {
   if (options.tilted) return detail::slice_tilted(mesh, options, topology);
   if (options.conformal_base) return detail::slice_conformal(mesh, options);
   const SectionContext ctx(mesh, options.direction, topology);
@@ -173,5 +184,7 @@ core::Result<SliceResult> slice(const mesh::Mesh& mesh, const SliceOptions& opti
   }
   return result;
 }
+
+}  // namespace
 
 }  // namespace polyaxis::slicing

@@ -4,7 +4,7 @@
 #include "polyaxis/toolpath/toolpath.h"
 
 #include <fmt/format.h>
-#include <tbb/global_control.h>
+#include "core/arena.h"
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -332,7 +332,9 @@ core::Status validate(const ToolpathOptions& o) {
   return {};
 }
 
-core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh, const slicing::SliceResult& slices,
+namespace {
+
+core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& mesh, const slicing::SliceResult& slices,
                                                          const ToolpathOptions& options) {
   if (auto s = validate(options); !s) return s.error();
   const std::vector<slicing::Layer>& layers = slices.layers;
@@ -341,10 +343,6 @@ core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh,
   const Vec3 d = layers.front().frame.d;
   // Tilted layers (slicing::SliceOptions::tilted) each have their own direction.
   const bool shared = std::all_of(layers.begin(), layers.end(), [&](const slicing::Layer& l) { return core::norm(l.frame.d - d) < kSameDirection; });
-  std::unique_ptr<tbb::global_control> limit;
-  if (options.threads > 0) {
-    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
-  }
 
   // Faces crossing each layer's plane (face_min < h <= face_max, the tie rule of section.h), by a
   // counting sort over the layers in height order.
@@ -423,6 +421,13 @@ core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh,
     if (!f.empty()) return core::make_error(core::ErrorCode::kInfeasible, f);
   }
   return result;
+}
+
+}  // namespace
+
+core::Result<std::vector<LayerToolpaths>> make_toolpaths(const mesh::Mesh& mesh, const slicing::SliceResult& slices,
+                                                         const ToolpathOptions& options) {
+  return core::with_threads(options.threads, [&] { return toolpaths_in_arena(mesh, slices, options); });
 }
 
 }  // namespace polyaxis::toolpath

@@ -46,6 +46,7 @@
 #include <optional>
 #include <vector>
 
+#include "polyaxis/core/progress.h"
 #include "polyaxis/core/result.h"
 #include "polyaxis/core/vec3.h"
 #include "polyaxis/geom2d/polygon.h"
@@ -66,7 +67,8 @@ struct LaminateOptions {
   double subslice_mm = 0.0;            // thin sub-slice; 0: the thinnest sheet
   double sample_mm = 1.0;              // largest spacing of edge samples along a contour
   double max_jet_angle_deg = 45.0;     // the jet's largest tilt from vertical (the machine's A or B range)
-  int threads = 0;                     // 0: all cores; the result does not depend on it
+  int threads = 0;                     // worker threads of this call; 0: all cores. The result does not depend on it
+  core::ProgressCallback progress;     // the call's stages go here instead of stderr (core/progress.h)
 };
 
 // One straight jet line through an edge sample: the kept edge r(h) = r_mid_mm + slope·(h − z_ref).

@@ -8,6 +8,7 @@
 
 #include "polyaxis/analysis/centroidal_axis.h"
 #include "polyaxis/analysis/decompose.h"
+#include "polyaxis/core/progress.h"
 #include "polyaxis/core/result.h"
 #include "polyaxis/post/gcode.h"
 #include "polyaxis/verify/simulate.h"
@@ -46,6 +47,9 @@ struct PlanPartOptions {
   // is prebuilt; they stand on the table and the rest is deposited onto them (the strategy must
   // not be kSingle).
   std::vector<std::uint32_t> prebuilt;
+  // The call's stages go here instead of stderr (core/progress.h); options.plan.threads bounds its
+  // worker threads (0: all cores), for this call only.
+  core::ProgressCallback progress;
 };
 
 struct PlanPartResult {

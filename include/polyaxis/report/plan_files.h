@@ -45,4 +45,8 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
 // slice, toolpath, program, support, gcode, simulate, verify).
 std::string timings_json(const planner::Plan& plan, const PlanMeta& meta);
 
+// `polyaxis simulate --json`: the program read back (moves, lengths, time at the programmed feeds,
+// axis ranges, limit violations and, when compared, the largest deviation from the plan).
+std::string simulation_json(const verify::SimulationReport& sim);
+
 }  // namespace polyaxis::report

@@ -23,7 +23,8 @@ struct HtmlOptions {
   std::size_t max_points = kViewerMaxPoints;
 };
 
-// The viewer bundle compiled into the program (viewer/dist, built by CMake).
+// The viewer bundle compiled into the program: viewer/ bundled by esbuild at build time, or
+// report/viewer_absent.js (a note that the page has no 3-D view) in a -DPOLYAXIS_VIEWER=OFF build.
 std::string_view viewer_bundle();
 
 // The data object the viewer reads (JSON text, schema "polyaxis-view/1").

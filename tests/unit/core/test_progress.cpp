@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "polyaxis/core/progress.h"
 
@@ -107,6 +109,63 @@ TEST(Progress, BarWithCountAndRateOnATerminal) {
   EXPECT_NE(out.find("[###############...............] 5/10"), std::string::npos) << out;
   EXPECT_NE(out.find("10/10"), std::string::npos) << out;
   EXPECT_NE(out.find("/s"), std::string::npos) << out;
+}
+
+// A callback in scope hears every stage made on its thread, from the start and at the end, and
+// nothing reaches stderr; outside the scope, or on another thread, stderr is used again.
+TEST(ProgressScope, TheCallbackInScopeHearsTheStagesInsteadOfStderr) {
+  set_progress_mode(ProgressMode::kAuto);
+  std::vector<std::pair<std::string, bool>> heard;
+  std::uint64_t last_done = 0, last_total = 0;
+  const auto record = [&](const ProgressEvent& e) {
+    heard.emplace_back(std::string(e.stage), e.finished);
+    last_done = e.done, last_total = e.total;
+  };
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  with_stderr(fileno(f), [&] {
+    ProgressScope scope(record);
+    Progress p("quick", 4);
+    p.update(2);
+    p.update(3);  // within the interval: not sent
+  });
+  EXPECT_EQ(std::ftell(f), 0L);  // nothing on stderr
+  std::fclose(f);
+  ASSERT_EQ(heard.size(), 2u);
+  EXPECT_EQ(heard[0], std::make_pair(std::string("quick"), false));
+  EXPECT_EQ(heard[1], std::make_pair(std::string("quick"), true));
+  EXPECT_EQ(last_done, 4u);
+  EXPECT_EQ(last_total, 4u);
+}
+
+TEST(ProgressScope, ScopesNestAndStayOnTheirThread) {
+  std::vector<std::string> outer, inner;
+  {
+    ProgressScope a([&](const ProgressEvent& e) { outer.emplace_back(e.stage); });
+    {
+      ProgressScope b([&](const ProgressEvent& e) { inner.emplace_back(e.stage); });
+      Progress p("inner", 1);
+      ProgressScope empty(ProgressCallback{});  // an empty callback keeps the current one
+      Progress q("still inner", 1);
+    }
+    Progress r("outer", 1);
+    std::thread([] {
+      set_progress_mode(ProgressMode::kQuiet);  // the other thread reports to stderr, quietly here
+      Progress s("elsewhere", 1);
+      set_progress_mode(ProgressMode::kAuto);
+    }).join();
+  }
+  // A task on another thread reports where the call does when it carries the scope's callback.
+  {
+    ProgressScope a([&](const ProgressEvent& e) { outer.emplace_back(e.stage); });
+    std::thread([carried = ProgressScope::current()] {
+      const ProgressScope scope(carried);
+      Progress t("carried", 1);
+    }).join();
+  }
+  // Each stage's end (no update came): the inner stages in the order they ended, then the outer.
+  EXPECT_EQ(inner, (std::vector<std::string>{"still inner", "inner"}));
+  EXPECT_EQ(outer, (std::vector<std::string>{"outer", "carried"}));
 }
 
 }  // namespace
