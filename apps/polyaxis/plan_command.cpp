@@ -43,7 +43,7 @@ int run_plan(PlanCommandOptions& o) {
     std::fputs(job.set.report_json.c_str(), stdout);
   } else {
     std::printf("%zu layers, %.0f mm of deposit, build %.0f s, max tilt %.1f deg, %s (unsupported %s mm2) -> %s/%s%s\n",
-                plan.layers.layers.size(), plan.deposit_length_mm, job.result.simulation.feed_time_s, plan.max_tilt_deg,
+                plan.layers.layers.size(), plan.deposit_length_mm, job.result.simulation.build_time.total_s, plan.max_tilt_deg,
                 plan.unsupported_area_mm2 == 0.0 ? "support-free" : "NOT support-free", planner::area_text(plan.unsupported_area_mm2).c_str(), o.out_dir.c_str(),
                 stem.c_str(), std::string(post::program_extension(machine)).c_str());
     if (o.html) std::printf("open %s/report.html in a browser to check the plan\n", o.out_dir.c_str());

@@ -45,8 +45,9 @@ int run_simulate(const SimulateOptions& o) {
   if (o.json) {
     std::printf("%s\n", report::simulation_json(r).c_str());
   } else {
-    std::printf("%llu moves, path %.1f mm, %.0f s at the programmed feeds, %llu limit violations",
-                static_cast<unsigned long long>(r.moves), r.path_length_mm, r.feed_time_s, static_cast<unsigned long long>(r.limit_violations));
+    std::printf("%llu moves, path %.1f mm, %.0f s on the controller (%.0f s at the programmed feeds), %llu limit violations",
+                static_cast<unsigned long long>(r.moves), r.path_length_mm, r.build_time.total_s, r.feed_time_s,
+                static_cast<unsigned long long>(r.limit_violations));
     if (r.compared_with_plan) std::printf(", largest deviation from the plan %.4f mm / %.3f deg", r.max_tip_deviation_mm, r.max_axis_deviation_deg);
     std::printf("\n");
     for (const auto& v : r.violations) std::printf("  %s\n", v.c_str());

@@ -37,6 +37,7 @@ constexpr std::string_view kDefaultMachine = R"({
     "conventional_directions": false
   },
   "feed": {"linear_max_mm_min": 6000, "rotary_max_deg_min": 3600},
+  "accel": {"linear_mm_s2": 1000, "rotary_deg_s2": 3600, "blend_tolerance_mm": 0.05},
   "nozzle": {"tip_half_angle_deg": 30, "cone_height_mm": 20, "cylinder_radius_mm": 25, "cylinder_height_mm": 150},
   "table": {"radius_mm": 250}
 }
@@ -142,7 +143,7 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
   const json& root = doc.value();
   core::detail::ConfigReader r(source);
   MachineConfig m;
-  if (!r.check_object(root, "", {"name", "kinematics", "limits", "pivot", "feed", "nozzle", "head_boxes", "table", "post", "robot", "positioner"})) return r.error();
+  if (!r.check_object(root, "", {"name", "kinematics", "limits", "pivot", "feed", "accel", "nozzle", "head_boxes", "table", "post", "robot", "positioner"})) return r.error();
   m.name = r.string(root, "", "name", std::nullopt);
   const std::string kin = r.string(root, "", "kinematics", std::nullopt);
   if (r.failed()) return r.error();
@@ -260,6 +261,25 @@ core::Result<MachineConfig> parse_machine(std::string_view text, const std::stri
   }
   if (!r.failed() && five && !(m.feed.rotary_max_deg_min >= 1.0 && m.feed.rotary_max_deg_min <= 1e6)) {
     r.fail(fmt::format("'feed.rotary_max_deg_min' ({}) must be between 1 and 1e6 deg/min", m.feed.rotary_max_deg_min));
+  }
+
+  if (r.has(root, "accel")) {
+    const json& a = root.at("accel");
+    if (!r.check_object(a, "accel", {"linear_mm_s2", "rotary_deg_s2", "blend_tolerance_mm"})) return r.error();
+    const AccelLimits defaults;
+    m.accel.linear_mm_s2 = r.number(a, "accel", "linear_mm_s2", defaults.linear_mm_s2);
+    m.accel.rotary_deg_s2 = r.number(a, "accel", "rotary_deg_s2", defaults.rotary_deg_s2);
+    m.accel.blend_tolerance_mm = r.number(a, "accel", "blend_tolerance_mm", defaults.blend_tolerance_mm);
+    // Slower than 1 mm/s² (or 1°/s²) or faster than 100 g is a typo; a blend past 10 mm is no corner.
+    if (!r.failed() && !(m.accel.linear_mm_s2 >= 1.0 && m.accel.linear_mm_s2 <= 1e6)) {
+      r.fail(fmt::format("'accel.linear_mm_s2' ({}) must be between 1 and 1e6 mm/s2", m.accel.linear_mm_s2));
+    }
+    if (!r.failed() && !(m.accel.rotary_deg_s2 >= 1.0 && m.accel.rotary_deg_s2 <= 1e6)) {
+      r.fail(fmt::format("'accel.rotary_deg_s2' ({}) must be between 1 and 1e6 deg/s2", m.accel.rotary_deg_s2));
+    }
+    if (!r.failed() && !(m.accel.blend_tolerance_mm >= 0.0 && m.accel.blend_tolerance_mm <= 10.0)) {
+      r.fail(fmt::format("'accel.blend_tolerance_mm' ({}) must be between 0 and 10 mm", m.accel.blend_tolerance_mm));
+    }
   }
 
   if (r.has(root, "nozzle")) {

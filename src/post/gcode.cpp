@@ -494,6 +494,8 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
                      machine::kinematics_name(machine.kind), sanitize_comment(process.name)));
   w.line("(axis words are joint positions: run with identity kinematics)");
   w.line("G21 G90 G94 G17");
+  // Path blending within the machine's tolerance (LinuxCNC's trajectory planner, machine "accel").
+  w.line(fmt::format("G64 P{:.4f}", machine.accel.blend_tolerance_mm));
   core::Progress progress("G-code", points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     if ((i & 4095) == 0) progress.update(i);

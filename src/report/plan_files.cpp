@@ -29,10 +29,15 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
   j["path_length_mm"] = sim.path_length_mm;
   j["deposit_length_mm"] = sim.deposit_length_mm;
   j["travel_length_mm"] = sim.path_length_mm - sim.deposit_length_mm;
-  // Build time: every G1 block at its programmed feed (deposition, travel and the rotary moves
-  // of reorientations, which the controller times by the same F), from the simulation of the
-  // written program.
-  j["build_time_s"] = sim.feed_time_s;
+  // Build time: the written program as LinuxCNC's trajectory planner runs it (accelerations,
+  // blending within G64 P, stops at dwells and process switches; verify/simulate.h), with its
+  // parts, and the time of the blocks at their programmed feeds alone.
+  j["build_time_s"] = sim.build_time.total_s;
+  j["build_time_parts_s"] = {{"deposit", sim.build_time.deposit_s},
+                             {"travel", sim.build_time.travel_s},
+                             {"reorientation", sim.build_time.reorientation_s},
+                             {"dwell", sim.build_time.dwell_s}};
+  j["feed_time_s"] = sim.feed_time_s;
   j["reorientations"] = plan.reorientations;
   j["support_free"] = plan.unsupported_area_mm2 == 0.0;
   j["unsupported_area_mm2"] = plan.unsupported_area_mm2;
@@ -117,6 +122,11 @@ std::string simulation_json(const verify::SimulationReport& r) {
   j["path_length_mm"] = r.path_length_mm;
   j["deposit_length_mm"] = r.deposit_length_mm;
   j["feed_time_s"] = r.feed_time_s;
+  j["build_time_s"] = r.build_time.total_s;
+  j["build_time_parts_s"] = {{"deposit", r.build_time.deposit_s},
+                             {"travel", r.build_time.travel_s},
+                             {"reorientation", r.build_time.reorientation_s},
+                             {"dwell", r.build_time.dwell_s}};
   auto span = [](const verify::AxisSpan& s) { return s.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json::array({s.min, s.max}); };
   j["axis_ranges"] = {{"x", span(r.x_mm)}, {"y", span(r.y_mm)}, {"z", span(r.z_mm)}, {"tilt", span(r.a_or_b_deg)}, {"c", span(r.c_deg)}};
   j["limit_violations"] = r.limit_violations;

@@ -246,11 +246,13 @@ class GcodeWalker {
       inverse_time_ = false;
     } else if (g == 17.0 || g == 21.0 || g == 90.0 || (sinumerik_ && g == 71.0)) {
       // the only plane, unit and distance modes the writer uses
+    } else if (g == 64.0 && !sinumerik_ && !iso_tcp_) {
+      // path blending (G64 P): the controller's, not the path's
     } else if (iso_tcp_ && (w.text.substr(1) == "43.4" || g == 49.0)) {
       tcp_ = g != 49.0;
     } else {
       return bad(fmt::format("G{} is not supported (the simulator reads G0 G1 G4 G17 G21 G90 G93 G94{})", w.text.substr(1),
-                             iso_tcp_ ? " G43.4 G49" : ""));
+                             iso_tcp_ ? " G43.4 G49" : sinumerik_ ? "" : " G64"));
     }
     return {};
   }

@@ -7,7 +7,7 @@
 #   4. a library-only configure (-DPOLYAXIS_VIEWER=OFF) needs no Node.js and bundles no viewer.
 # Usage: run_package_test.sh BUILD_DIR SOURCE_DIR PYTHON
 set -euo pipefail
-build=$1 source=$2 python=$3
+build=$(cd "$1" && pwd) source=$(cd "$2" && pwd) python=$3
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 prefix=$work/prefix

@@ -94,6 +94,17 @@ struct FeedLimits {
   double rotary_max_deg_min = 3600.0;  // largest angular feed of any rotary axis
 };
 
+// How fast the axes may change speed, and how far the controller may round a corner to keep
+// moving ("accel" in the machine file, optional: these defaults). LinuxCNC's trajectory planner
+// limits each axis to its acceleration and blends consecutive moves within G64 P (the program
+// header carries blend_tolerance_mm as G64 P); the build-time estimate (verify/simulate.h) times
+// moves the same way.
+struct AccelLimits {
+  double linear_mm_s2 = 1000.0;      // each of X, Y, Z
+  double rotary_deg_s2 = 3600.0;     // each rotary axis
+  double blend_tolerance_mm = 0.05;  // G64 P: the largest deviation from a corner the blend may take
+};
+
 // Dwivedi Eq. 2: r(z) = z·tan(θ) for z ≤ z1, R above (up to z1 + the cylinder's height).
 struct NozzleModel {
   double tip_half_angle_deg = 30.0;  // θ, cone half-angle at the tip
@@ -154,6 +165,7 @@ struct MachineConfig {
   bool c_unwind = false;
   TrtPivot pivot;
   FeedLimits feed;
+  AccelLimits accel;  // "accel", optional
   NozzleModel nozzle;
   std::vector<HeadBox> head_boxes;  // optional, "head_boxes" in the file
   TableModel table;

@@ -25,12 +25,29 @@ struct AxisSpan {
   bool empty() const { return !(min <= max); }
 };
 
+// What a block of the program is for, in the build time: laying a bead (the process on), moving
+// between beads (off, the tool moving), or turning the tool in place (off, only rotary axes move).
+enum class BuildTimePart { kDeposit, kTravel, kReorientation };
+
+// The program's time as LinuxCNC's trajectory planner runs it (src/verify/build_time.h: each
+// block at the velocity and acceleration its slowest axis allows, blended within the machine's
+// G64 P, stopped at dwells and process switches), and its parts. On a robot cell (RAPID) it is the
+// programmed feeds' time (the robot controller's planner is not modelled).
+struct BuildTime {
+  double total_s = 0.0;
+  double deposit_s = 0.0;
+  double travel_s = 0.0;
+  double reorientation_s = 0.0;
+  double dwell_s = 0.0;  // G4 dwells (process start and stop)
+};
+
 struct SimulationReport {
   std::uint64_t moves = 0;            // G0/G1 blocks that change a position
   std::uint64_t rapid_moves = 0;      // of which G0
   double path_length_mm = 0.0;        // tip path in the part frame, after the first positioning move
   double deposit_length_mm = 0.0;     // of which with the process on (needs the process codes)
   double feed_time_s = 0.0;           // duration of the G1 blocks from their F; rapids not included
+  BuildTime build_time;               // the controller's time, with acceleration and blending
   AxisSpan x_mm, y_mm, z_mm, a_or_b_deg, c_deg;  // programmed positions
   std::uint64_t limit_violations = 0; // soft-limit and feed-limit violations
   std::vector<std::string> violations;  // the first kMaxReportedViolations, "line 12: C = ..."

@@ -64,6 +64,31 @@ TEST(MachineConfig, DefaultIsTheAcDepositionMachine) {
   EXPECT_EQ(examples("machines/ded5_ac.json"), std::string(default_machine_json()));
 }
 
+// "accel": the default machine's 1000 mm/s², 3600 °/s² and G64 P0.05; a file without it takes
+// those; a value out of range names its key.
+TEST(MachineConfig, AccelerationsAndBlendTolerance) {
+  auto m = parse_machine(default_machine_json(), "default");
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m.value().accel.linear_mm_s2, 1000.0);
+  EXPECT_EQ(m.value().accel.rotary_deg_s2, 3600.0);
+  EXPECT_EQ(m.value().accel.blend_tolerance_mm, 0.05);
+  auto doc = parse_config_document(kAc, "ac");
+  ASSERT_TRUE(doc.ok());
+  nlohmann::json without = doc.value();
+  without.erase("accel");
+  auto defaults = parse_machine(without.dump(), "no accel");
+  ASSERT_TRUE(defaults.ok()) << defaults.error().message;
+  EXPECT_EQ(defaults.value().accel.linear_mm_s2, AccelLimits{}.linear_mm_s2);
+  for (const auto& [key, value] : {std::pair{"linear_mm_s2", 0.5}, std::pair{"rotary_deg_s2", 2e6}, std::pair{"blend_tolerance_mm", -0.1}}) {
+    nlohmann::json bad = doc.value();
+    bad["accel"][key] = value;
+    EXPECT_NE(machine_error(bad.dump()).find(std::string("accel.") + key), std::string::npos) << key;
+  }
+  nlohmann::json unknown = doc.value();
+  unknown["accel"]["jerk"] = 1.0;
+  EXPECT_NE(machine_error(unknown.dump()).find("jerk"), std::string::npos);
+}
+
 TEST(MachineConfig, EveryExampleParses) {
   for (const char* name : {"ded5_ac", "ded5_bc", "gantry3"}) {
     auto m = parse_machine(examples(std::string("machines/") + name + ".json"), name);

@@ -35,7 +35,7 @@ void check_program(const machine::MachineConfig& m, const std::string& text, con
   const std::string rotary = machine::has_rotary_axes(m.kind)
                                  ? std::string(" ") + machine::tilt_axis_letter(m.kind) + num + " C" + num
                                  : std::string();
-  const std::regex grammar("^(\\([^()]*\\)|G21 G90 G94 G17|G4 P[0-9]+\\.[0-9]{4}|M2|" + proc.process_on + "|" +
+  const std::regex grammar("^(\\([^()]*\\)|G21 G90 G94 G17|G64 P[0-9]+\\.[0-9]{4}|G4 P[0-9]+\\.[0-9]{4}|M2|" + proc.process_on + "|" +
                            proc.process_off + "|G0 X" + num + " Y" + num + " Z" + num + rotary + "|G1 X" + num + " Y" +
                            num + " Z" + num + rotary + "( F[0-9]+\\.[0-9]+)?)$");
   const auto lines = lines_of(text);
@@ -108,6 +108,15 @@ TEST(Gcode, SameInputSameBytes) {
   auto b = write_gcode(m, default_process(), plan);
   ASSERT_TRUE(a.ok() && b.ok());
   EXPECT_EQ(a.value(), b.value());
+}
+
+// The header asks LinuxCNC to blend within the machine's tolerance (G64 P, machine "accel").
+TEST(Gcode, HeaderCarriesTheBlendTolerance) {
+  machine::MachineConfig m = example_machine("ded5_bc");
+  m.accel.blend_tolerance_mm = 0.125;
+  auto g = write_gcode(m, default_process(), helix_and_tilt());
+  ASSERT_TRUE(g.ok()) << g.error().message;
+  EXPECT_NE(g.value().find("\nG21 G90 G94 G17\nG64 P0.1250\n"), std::string::npos);
 }
 
 TEST(Gcode, SlowMachineGetsLowerFeedsNeverAboveItsLimits) {
