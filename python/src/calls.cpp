@@ -105,10 +105,11 @@ Analysis analyze(const py::object& part, const py::object& options, const py::ob
   return Analysis{result, json};
 }
 
-Plan plan(const py::object& part, const py::object& options, const py::object& progress) {
-  report::PlanRequest request = options_or(options, default_plan_request());
+// PART into a job's REQUEST (report::PlanRequest, lamination::LaminateRequest): a path is read by
+// the job; a Part goes as its repaired mesh (repaired again: a no-op) and arrays as they are.
+template <typename Request>
+void set_part(Request& request, const py::handle& part) {
   if (py::isinstance<Part>(part)) {
-    // Planned as given: its mesh is the repaired one, read again only through the request's path.
     const Part p = part.cast<Part>();
     const auto& m = p.loaded->repaired.mesh;
     request.mesh = io::RawMesh{m.vertices, m.triangles};
@@ -119,6 +120,11 @@ Plan plan(const py::object& part, const py::object& options, const py::object& p
     request.mesh = raw_mesh(part);
     request.part.path = "<arrays>";
   }
+}
+
+Plan plan(const py::object& part, const py::object& options, const py::object& progress) {
+  report::PlanRequest request = options_or(options, default_plan_request());
+  set_part(request, part);
   auto job = without_gil(progress, [&] {
     request.options.progress = {};  // the scope's callback serves every stage
     return report::run_plan_job(request);
@@ -158,17 +164,7 @@ py::object simulate(const py::object& program, const py::object& against, const 
 
 Lamination laminate(const py::object& part, const py::object& options, const py::object& progress) {
   lamination::LaminateRequest request = options_or(options, default_laminate_request());
-  if (py::isinstance<Part>(part)) {
-    const Part p = part.cast<Part>();
-    const auto& m = p.loaded->repaired.mesh;
-    request.mesh = io::RawMesh{m.vertices, m.triangles};
-    request.part.path = p.name;
-  } else if (is_path(part)) {
-    request.part.path = path_text(part);
-  } else {
-    request.mesh = raw_mesh(part);
-    request.part.path = "<arrays>";
-  }
+  set_part(request, part);
   auto job = without_gil(progress, [&] { return lamination::run_laminate_job(request); });
   return Lamination{std::make_shared<const lamination::LaminateJob>(take(std::move(job)))};
 }

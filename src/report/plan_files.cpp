@@ -10,6 +10,10 @@ namespace {
 
 using nlohmann::ordered_json;
 
+// The parts of the build time (verify::BuildTime), s.
+ordered_json build_time_parts(const verify::BuildTime& t) {
+  return {{"deposit", t.deposit_s}, {"travel", t.travel_s}, {"reorientation", t.reorientation_s}, {"dwell", t.dwell_s}};
+}
 
 }  // namespace
 
@@ -33,10 +37,7 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
   // blending within G64 P, stops at dwells and process switches; verify/simulate.h), with its
   // parts, and the time of the blocks at their programmed feeds alone.
   j["build_time_s"] = sim.build_time.total_s;
-  j["build_time_parts_s"] = {{"deposit", sim.build_time.deposit_s},
-                             {"travel", sim.build_time.travel_s},
-                             {"reorientation", sim.build_time.reorientation_s},
-                             {"dwell", sim.build_time.dwell_s}};
+  j["build_time_parts_s"] = build_time_parts(sim.build_time);
   j["feed_time_s"] = sim.feed_time_s;
   j["reorientations"] = plan.reorientations;
   j["support_free"] = plan.unsupported_area_mm2 == 0.0;
@@ -123,10 +124,7 @@ std::string simulation_json(const verify::SimulationReport& r) {
   j["deposit_length_mm"] = r.deposit_length_mm;
   j["feed_time_s"] = r.feed_time_s;
   j["build_time_s"] = r.build_time.total_s;
-  j["build_time_parts_s"] = {{"deposit", r.build_time.deposit_s},
-                             {"travel", r.build_time.travel_s},
-                             {"reorientation", r.build_time.reorientation_s},
-                             {"dwell", r.build_time.dwell_s}};
+  j["build_time_parts_s"] = build_time_parts(r.build_time);
   auto span = [](const verify::AxisSpan& s) { return s.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json::array({s.min, s.max}); };
   j["axis_ranges"] = {{"x", span(r.x_mm)}, {"y", span(r.y_mm)}, {"z", span(r.z_mm)}, {"tilt", span(r.a_or_b_deg)}, {"c", span(r.c_deg)}};
   j["limit_violations"] = r.limit_violations;
