@@ -4,6 +4,9 @@
 include(CMakePackageConfigHelpers)
 
 install(TARGETS polyaxis polyaxis-cad-import RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+if(NOT TARGET polyaxis_lib)
+  return()  # no libpolyaxis without position-independent code: the CLI alone
+endif()
 install(TARGETS polyaxis_lib EXPORT polyaxisTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

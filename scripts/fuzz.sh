@@ -11,7 +11,8 @@ if ! command -v clang++-14 >/dev/null; then
 fi
 jobs=$(nproc)
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
-  -DPOLYAXIS_BUILD_FUZZ=ON -DPOLYAXIS_BUILD_TESTS=OFF -DPOLYAXIS_BUILD_BENCH=OFF >/dev/null
+  -DPOLYAXIS_BUILD_FUZZ=ON -DPOLYAXIS_BUILD_TESTS=OFF -DPOLYAXIS_BUILD_BENCH=OFF -DPOLYAXIS_PYTHON=OFF \
+  -DCMAKE_POSITION_INDEPENDENT_CODE=OFF >/dev/null
 cmake --build build-fuzz -j"$jobs" --target fuzz_stl fuzz_obj fuzz_3mf fuzz_repair fuzz_plan_json fuzz_config fuzz_gcode fuzz_toolpath_3mf
 mkdir -p build-fuzz/crashes
 # lib3mf 1.8.1 leaks a few bytes per package inside libzip (see tests/fuzz/fuzz_3mf.cpp).
