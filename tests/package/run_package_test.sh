@@ -23,8 +23,10 @@ echo "== examples/cpp against the installed package"
 cmake -S "$source/examples/cpp" -B "$work/example" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release >"$work/example.log"
 cmake --build "$work/example" -j2 >>"$work/example.log"
 # Nothing of the build tree may be needed: the example links libpolyaxis.so from the prefix.
-if ldd "$work/example/plan_part" | grep -q "$build"; then echo "plan_part links the build tree"; exit 1; fi
-ldd "$work/example/plan_part" | grep -q "$prefix/lib/libpolyaxis.so" || { ldd "$work/example/plan_part"; exit 1; }
+# (ldd's output is taken whole: grep -q stopping early would break ldd's pipe under pipefail.)
+libs=$(ldd "$work/example/plan_part")
+if grep -q "$build" <<<"$libs"; then echo "plan_part links the build tree"; exit 1; fi
+grep -q "$prefix/lib/libpolyaxis.so" <<<"$libs" || { echo "plan_part does not link the installed libpolyaxis:"; echo "$libs"; exit 1; }
 part=$source/examples/parts/l_block.stl
 (cd "$work" && "$work/example/plan_part" "$part" "$work/lib-out" | tee "$work/example.out")
 grep -q "progress events" "$work/example.out"
@@ -33,7 +35,7 @@ cmp "$work/lib-out/l_block.ngc" "$work/cli-out/l_block.ngc"
 cmp "$work/lib-out/report.json" "$work/cli-out/report.json"
 
 echo "== python: import polyaxis from the prefix"
-site=$(find "$prefix" -type d -name dist-packages | head -1)
+site=$(find "$prefix" -type d -name dist-packages -print -quit)
 [ -f "$site/polyaxis/__init__.py" ] || { echo "no polyaxis package under $prefix"; exit 1; }
 PYTHONPATH=$site "$python" -c "import polyaxis, sys; assert polyaxis.__file__.startswith('$prefix'), polyaxis.__file__; print('import polyaxis:', polyaxis.__file__)"
 # A STEP part (OpenCASCADE's sample, occt-misc) through the CAD importer installed beside the module.
