@@ -59,7 +59,7 @@ Part part_of(const py::handle& part, mesh::LoadOptions options) {
     return Part{std::make_shared<const mesh::LoadedPart>(take(std::move(loaded))), options.path};
   }
   io::RawMesh raw = raw_mesh(part);
-  const std::string name = "<arrays>";
+  const std::string name = "part";
   auto loaded = without_gil(py::none(), [&] { return mesh::load_part(std::move(raw), options, name); });
   return Part{std::make_shared<const mesh::LoadedPart>(take(std::move(loaded))), name};
 }
@@ -118,7 +118,7 @@ void set_part(Request& request, const py::handle& part) {
     request.part.path = path_text(part);
   } else {
     request.mesh = raw_mesh(part);
-    request.part.path = "<arrays>";
+    request.part.path = "part";
   }
 }
 

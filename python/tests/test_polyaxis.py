@@ -60,7 +60,7 @@ def test_read_part_from_arrays_and_scale():
     v, t = box()
     part = polyaxis.read_part((v, t), polyaxis.PartOptions(scale=2.0))
     assert part.volume_mm3 == pytest.approx(20 * 10 * 6 * 8)
-    assert part.name == "<arrays>"
+    assert part.name == "part"  # arrays are named "part": part.ngc, "part: vertex 3 ..."
 
 
 def test_inspect_matches_the_cli_json():
@@ -237,6 +237,7 @@ def test_plan_of_a_part_object_and_of_arrays():
     assert from_arrays.gcode == from_part.gcode
     assert from_arrays.support_free
     assert from_arrays.report["layers"] == len(from_arrays.layers)
+    assert from_arrays.gcode_name == "part.ngc"  # arrays are named "part"
 
 
 def test_plan_does_not_depend_on_the_thread_count():
