@@ -20,6 +20,8 @@ packages=(
   occt-misc
   # a real G-code interpreter (rs274) for tests/unit/machine/test_rs274.cpp
   linuxcnc-uspace
+  # LinuxCNC's simulator in the loop (tools/linuxcnc-sim): its clock sped up by libfaketime
+  libfaketime
   # a real browser for the report viewer's tests (tests/browser)
   chromium
 )

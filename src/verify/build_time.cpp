@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "gcode_walk.h"
+
 namespace polyaxis::verify::detail {
 namespace {
 
@@ -28,13 +30,42 @@ double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1]
 
 }  // namespace
 
-BuildTimer::BuildTimer(const machine::MachineConfig& machine) : m_(machine) {}
+TimedBlock timed_block(const WalkMove& mv) {
+  TimedBlock b;
+  const double dx = mv.to.x_mm - mv.from.x_mm, dy = mv.to.y_mm - mv.from.y_mm, dz = mv.to.z_mm - mv.from.z_mm;
+  const double l_xyz = std::sqrt(dx * dx + dy * dy + dz * dz);
+  if (mv.robot_joint || mv.arm_to) {
+    b.d[0] = mv.l_xyz_mm;
+    b.u_xyz[0] = 1.0;
+  } else {
+    b.d[0] = std::fabs(dx), b.d[1] = std::fabs(dy), b.d[2] = std::fabs(dz);
+    b.d[3] = std::fabs(mv.to.a_or_b_deg - mv.from.a_or_b_deg), b.d[4] = std::fabs(mv.to.c_deg - mv.from.c_deg);
+    if (l_xyz > 0.0) b.u_xyz[0] = dx / l_xyz, b.u_xyz[1] = dy / l_xyz, b.u_xyz[2] = dz / l_xyz;
+  }
+  b.rapid = mv.rapid;
+  b.feed_per_min = mv.feed;
+  // Tool-space blocks (TRAORI, G43.4) and G93 give the block's time; the joints follow it.
+  if (mv.inverse_time || mv.tool_space || mv.rotary_linear || mv.robot_joint || mv.arm_to) b.inverse_time_min = mv.time_min;
+  b.part = mv.process_on ? BuildTimePart::kDeposit : (l_xyz > 0.0 || mv.l_xyz_mm > 0.0) ? BuildTimePart::kTravel : BuildTimePart::kReorientation;
+  return b;
+}
+
+BuildTimer::BuildTimer(const machine::MachineConfig& machine, bool keep_durations) : m_(machine), keep_durations_(keep_durations) {}
+
+void BuildTimer::move(const WalkMove& mv) {
+  if (mv.process_on != last_on_) dwell(0.0);
+  last_on_ = mv.process_on;
+  block(timed_block(mv));
+}
 
 void BuildTimer::block(const TimedBlock& b) {
+  const std::size_t slot = durations_.size();
+  if (keep_durations_) durations_.push_back(0.0);
   const double l_xyz = std::sqrt(b.d[0] * b.d[0] + b.d[1] * b.d[1] + b.d[2] * b.d[2]);
   const double l_rot = std::hypot(b.d[3], b.d[4]);
   if (l_xyz < kEps && l_rot < kEps) return;
   Segment s;
+  s.slot = slot;
   s.length = l_xyz >= kEps ? l_xyz : l_rot;
   s.rotary = l_rot >= kEps;
   std::copy(b.u_xyz, b.u_xyz + 3, s.u);
@@ -140,6 +171,7 @@ void BuildTimer::flush() {
       t -= std::min(v_blend / acc[k], t - kServoPeriodS);
     }
     part_time(s.part) += t;
+    if (keep_durations_) durations_[s.slot] = t;
   }
   chain_.clear();
 }

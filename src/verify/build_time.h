@@ -28,13 +28,27 @@ struct TimedBlock {
   BuildTimePart part = BuildTimePart::kTravel;
 };
 
+struct WalkMove;
+
+// MV as the estimate takes it: the joints' travel (the TCP's path on a robot cell, whose arm the
+// estimate does not model), the feed the block asks for, and its part of the build time.
+TimedBlock timed_block(const WalkMove& mv);
+
 class BuildTimer {
  public:
-  explicit BuildTimer(const machine::MachineConfig& machine);
+  // KEEP_DURATIONS: keep each block's own time (durations()), for a clock along the program.
+  explicit BuildTimer(const machine::MachineConfig& machine, bool keep_durations = false);
+  // A move of the program from a known pose: a change of the process state stops the motion first
+  // (LinuxCNC waits for the motion before it switches an output, M64/M65), then the block.
+  void move(const WalkMove& mv);
   void block(const TimedBlock& b);
   void dwell(double seconds);  // stops the motion
   // The estimate of everything added so far.
   BuildTime finish();
+  // With KEEP_DURATIONS, after finish(): the time of each block()/move() call in call order (a
+  // parabolic blend's overlap counted in the block that ends with it; 0 for a block that moves
+  // nothing). Dwells are not in it.
+  const std::vector<double>& durations() const { return durations_; }
 
  private:
   // A block in the planner's units: mm along XYZ, or degrees for a rotary-only block.
@@ -45,11 +59,15 @@ class BuildTimer {
     bool rotary = false;
     double u[3] = {0, 0, 0};
     BuildTimePart part = BuildTimePart::kTravel;
+    std::size_t slot = 0;  // its entry in durations_ (when kept)
   };
   void flush();  // times the chain of blocks since the last stop
 
   machine::MachineConfig m_;
+  bool keep_durations_ = false;
+  bool last_on_ = false;  // the process state of the last move
   std::vector<Segment> chain_;
+  std::vector<double> durations_;
   BuildTime time_;
 };
 

@@ -108,29 +108,6 @@ void widen(AxisSpan& s, double v) {
   s.max = std::max(s.max, v);
 }
 
-
-// MV as the build-time estimate takes it: the joints' travel (the TCP's path on a robot cell,
-// whose arm the estimate does not model), and the feed the block asks for.
-detail::TimedBlock timed_block(const detail::WalkMove& mv) {
-  detail::TimedBlock b;
-  const double dx = mv.to.x_mm - mv.from.x_mm, dy = mv.to.y_mm - mv.from.y_mm, dz = mv.to.z_mm - mv.from.z_mm;
-  const double l_xyz = std::sqrt(dx * dx + dy * dy + dz * dz);
-  if (mv.robot_joint || mv.arm_to) {
-    b.d[0] = mv.l_xyz_mm;
-    b.u_xyz[0] = 1.0;
-  } else {
-    b.d[0] = std::fabs(dx), b.d[1] = std::fabs(dy), b.d[2] = std::fabs(dz);
-    b.d[3] = std::fabs(mv.to.a_or_b_deg - mv.from.a_or_b_deg), b.d[4] = std::fabs(mv.to.c_deg - mv.from.c_deg);
-    if (l_xyz > 0.0) b.u_xyz[0] = dx / l_xyz, b.u_xyz[1] = dy / l_xyz, b.u_xyz[2] = dz / l_xyz;
-  }
-  b.rapid = mv.rapid;
-  b.feed_per_min = mv.feed;
-  // Tool-space blocks (TRAORI, G43.4) and G93 give the block's time; the joints follow it.
-  if (mv.inverse_time || mv.tool_space || mv.rotary_linear || mv.robot_joint || mv.arm_to) b.inverse_time_min = mv.time_min;
-  b.part = mv.process_on ? BuildTimePart::kDeposit : (l_xyz > 0.0 || mv.l_xyz_mm > 0.0) ? BuildTimePart::kTravel : BuildTimePart::kReorientation;
-  return b;
-}
-
 }  // namespace
 
 core::Result<SimulationReport> simulate(const machine::MachineConfig& m, std::string_view gcode,
@@ -156,7 +133,6 @@ core::Result<SimulationReport> simulate(const machine::MachineConfig& m, std::st
   };
   core::Progress progress("simulate", 0);
   detail::BuildTimer timer(m);
-  bool last_on = false;  // the process state of the last move: a switch stops the motion
   detail::WalkCallbacks cb;
   cb.dwell = [&](std::uint64_t, double seconds, bool) { timer.dwell(seconds); };
   cb.target = [&](std::uint64_t line_no, const MachinePose& target, std::string_view) {
@@ -178,9 +154,7 @@ core::Result<SimulationReport> simulate(const machine::MachineConfig& m, std::st
       return;
     }
     const double d_tilt = mv.d_tilt_deg, d_c = mv.d_c_deg, l_xyz = mv.l_xyz_mm;
-    if (mv.process_on != last_on) timer.dwell(0.0);
-    last_on = mv.process_on;
-    timer.block(timed_block(mv));
+    timer.move(mv);
     if (!mv.rapid) {
       const double t_min = mv.time_min;
       rep.feed_time_s += t_min * 60.0;

@@ -65,6 +65,16 @@ def from_machine_file(cfg):
     return c
 
 
+def program_kins(prog_path):
+    """polyaxis programs whose axis words are joint positions say so in their header: those run
+    with identity kinematics, whatever the machine's own kinematics module is"""
+    with open(prog_path, errors="replace") as f:
+        for _, line in zip(range(20), f):
+            if "axis words are joint positions" in line:
+                return "trivkins"
+    return None
+
+
 def main():
     if len(sys.argv) != 4:
         die("usage: lcnc_gen.py CONFIG.json PROGRAM.ngc OUTDIR")
@@ -74,7 +84,7 @@ def main():
     os.makedirs(out, exist_ok=True)
     cfg = from_machine_file(cfg)
 
-    kins = os.environ.get("LCNC_KINS") or cfg.get("kins", "xyzac-trt-kins")
+    kins = os.environ.get("LCNC_KINS") or program_kins(prog_path) or cfg.get("kins", "xyzac-trt-kins")
     if kins in ("xyzac-trt-kins", "xyzac-trt"):
         kins, coords = "xyzac-trt-kins", "XYZAC"
     elif kins in ("xyzbc-trt-kins", "xyzbc-trt"):
@@ -99,7 +109,7 @@ def main():
     world = cfg.get("world_limits")
 
     pins = {}
-    for k, pin in PIN_KEYS.items():
+    for k, pin in ([] if trivial else PIN_KEYS.items()):
         if k in cfg and cfg[k] is not None:
             pins[pin] = float(cfg[k])
     for pin, v in (cfg.get("kins_pins") or {}).items():

@@ -50,7 +50,12 @@ for e in list(out["errors"]):
     if e.startswith("lcnc_run:"):          # our own watchdog / setup messages
         out["errors"].remove(e)
         machinery.append(e)
+done = r.get("stage") == "done"
 for line in log.splitlines():
+    # an I/O timeout during the setup that the display then retried is not a failure of the run
+    if done and "timed out waiting for last command done" in line:
+        out.setdefault("messages", []).append("linuxcnc log: " + line.strip())
+        continue
     if re.search(r"USRMOT: ERROR: command timeout|RTAPI: ERROR|Can't execute DISPLAY|"
                  r"timed out waiting for last command done|insmod .* failed", line):
         machinery.append("linuxcnc log: " + line.strip())
@@ -71,7 +76,9 @@ if r.get("stage") == "done":
     out["last_line"] = r.get("last_line")
     out["final_joints"] = r.get("final_joints")
 if r.get("messages"):
-    out["messages"] = r["messages"][:20]
+    out["messages"] = (out.get("messages", []) + r["messages"])[:20]
+if r.get("setup_retries"):
+    out["setup_retries"] = r["setup_retries"]
 if r.get("servo_stalls"):
     out["servo_stalls_real_s"] = [s[1] for s in r["servo_stalls"]][:20]
 out["speed"] = float(speed)

@@ -15,6 +15,7 @@
 #   LCNC_TIMEOUT   real-time limit in seconds per attempt (default 900)
 #   LCNC_RETRIES   extra attempts after an infrastructure failure (default 2)
 #   LCNC_KEEP=1    keep the generated run directory (kept anyway on failure)
+#   LCNC_WORKDIR   where run directories go (default ${TMPDIR:-/tmp}/polyaxis-lcnc)
 set -u
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 PY=/usr/bin/python3
@@ -37,15 +38,20 @@ TIMEOUT=${LCNC_TIMEOUT:-900}
 RETRIES=${LCNC_RETRIES:-2}
 T_START=$(date +%s.%N)
 
-# LinuxCNC allows one instance per machine (/tmp/linuxcnc.lock): serialize.
-exec 9>"$HERE/.run.lock"
-if ! flock -w "$TIMEOUT" 9; then emit_fail "could not get $HERE/.run.lock"; exit 2; fi
+command -v linuxcnc >/dev/null || { emit_fail "linuxcnc not found: apt-get install linuxcnc-uspace"; exit 2; }
+WORK=${LCNC_WORKDIR:-${TMPDIR:-/tmp}/polyaxis-lcnc}
+mkdir -p "$WORK" || { emit_fail "cannot create $WORK"; exit 2; }
+
+# LinuxCNC allows one instance per machine (/tmp/linuxcnc.lock): serialize every
+# run on the machine, whichever checkout it comes from.
+exec 9>/tmp/polyaxis-lcnc.lock
+if ! flock -w "$TIMEOUT" 9; then emit_fail "could not get /tmp/polyaxis-lcnc.lock"; exit 2; fi
 
 # rtapi_app (setuid root) refuses to run as root without a fallback uid; its
 # socket directory must be writable by that uid.
-mkdir -p "$HERE/rt" && chmod 1777 "$HERE/rt"
+mkdir -p "$WORK/rt" && chmod 1777 "$WORK/rt"
 export RTAPI_UID=${RTAPI_UID:-65534}
-export RTAPI_FIFO_PATH="$HERE/rt/.rtapi_fifo"
+export RTAPI_FIFO_PATH="$WORK/rt/.rtapi_fifo"
 unset DISPLAY   # never try X
 
 run_once() {  # $1 = run dir; runs linuxcnc once, leaves $1/result.json
@@ -57,7 +63,7 @@ run_once() {  # $1 = run dir; runs linuxcnc once, leaves $1/result.json
     fi
     local PATHX=$PATH
     if [ "$SPEED" != "1" ]; then
-        [ -r "$FT_LIB" ] || { echo "libfaketime missing: apt-get install faketime" >"$RUN/fatal"; return; }
+        [ -r "$FT_LIB" ] || { echo "libfaketime missing: apt-get install libfaketime" >"$RUN/fatal"; return; }
         # Only rtapi_app (servo thread = motion + trajectory planner), io and
         # milltask (task cycle, G4 dwell timer, motion command timeouts) see a
         # clock running SPEED x faster.  halcmd spawns rtapi_app and io, the
@@ -119,7 +125,7 @@ EOF
 ATTEMPT=0
 while :; do
     ATTEMPT=$((ATTEMPT + 1))
-    RUN=$(mktemp -d "$HERE/run.XXXXXX")
+    RUN=$(mktemp -d "$WORK/run.XXXXXX")
     run_once "$RUN"
     T_END=$(date +%s.%N)
     OUT=$($PY "$HERE/lcnc_result.py" "$RUN" "$T_START" "$T_END" "$SPEED" "$ATTEMPT")

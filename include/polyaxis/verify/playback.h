@@ -29,8 +29,9 @@ struct PlaybackFrame {
 };
 
 // The frames of GCODE on MACHINE: one per motion block and one per dwell (the pose held), in
-// program order. A feed move takes the time LinuxCNC reads from its F word (as simulate); a rapid
-// the longest of its axes at the machine's maximum linear or rotary feed; a dwell its P seconds.
+// program order. Each block ends when the build-time estimate (simulate's build_time, docs/plan.md)
+// says: acceleration, blending and the axes' limits as LinuxCNC's trajectory planner; a dwell
+// takes its P seconds. The last frame's time is the estimate's total.
 // Errors: those of simulate's reader (kInvalidInput naming the line). Cost: linear in the text.
 core::Result<std::vector<PlaybackFrame>> playback_frames(const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                                          std::string_view gcode);
