@@ -11,7 +11,7 @@ controller did not run to its last line, and on a build-time estimate (report.js
 more than 2 % away from the controller's trajectory time.
 
 `limit-short` plans the part the same way, then gives the controller a copy of the machine file
-whose tilt (A) limit is one degree short of the program's largest tilt. The controller must refuse
+whose tilt (A or B) limit is one degree short of the program's largest tilt. The controller must refuse
 the program with a limit error (runner exit 1): the limits the planner checks are the limits the
 controller enforces.
 
@@ -25,7 +25,6 @@ import sys
 import tempfile
 
 ESTIMATE_TOLERANCE = 0.02   # the bound on |estimate / controller - 1|
-AXES = "XYZAC"
 
 
 def fail(msg):
@@ -38,7 +37,7 @@ def first_line_beyond(ngc, axis, limit, side):
     with open(ngc) as f:
         for n, line in enumerate(f, 1):
             line = re.sub(r"\(.*?\)|;.*", "", line).upper()
-            for ax, v in re.findall(r"([XYZAC])\s*([-+]?[0-9.]+)", line):
+            for ax, v in re.findall(r"([XYZABC])\s*([-+]?[0-9.]+)", line):
                 if ax == axis and (float(v) > limit if side == "max" else float(v) < limit):
                     return n
     return None
@@ -51,7 +50,7 @@ def program_extents(ngc):
     with open(ngc) as f:
         for n, line in enumerate(f, 1):
             line = re.sub(r"\(.*?\)|;.*", "", line).upper()
-            words = re.findall(r"([XYZAC])\s*([-+]?[0-9.]+)", line)
+            words = re.findall(r"([XYZABC])\s*([-+]?[0-9.]+)", line)
             if not words:
                 continue
             last = n
@@ -72,7 +71,12 @@ def plan(polyaxis, machine, part, opts, out):
 
 
 def run_controller(runner, machine, ngc):
-    r = subprocess.run([runner, machine, ngc], capture_output=True, text=True)
+    # Each attempt well within CTest's limit (900 s), retries included: a run that hangs is killed
+    # by the runner, never left behind by CTest.
+    env = dict(os.environ)
+    env.setdefault("LCNC_TIMEOUT", "240")
+    env.setdefault("LCNC_RETRIES", "2")
+    r = subprocess.run([runner, machine, ngc], capture_output=True, text=True, env=env)
     sys.stderr.write(r.stderr)
     try:
         res = json.loads(r.stdout.strip().splitlines()[-1])
@@ -100,29 +104,30 @@ def check_run(runner, machine, ngc, report):
 
 
 def check_limit_short(runner, machine, ngc, work):
-    ext, _ = program_extents(ngc)
-    if "A" not in ext:
-        fail("the program never tilts: it cannot show a tilt limit")
-    lo, hi = ext["A"]
     with open(machine) as f:
         m = json.load(f)
-    a = m["limits"]["a"]
+    axis = "A" if "a" in m["limits"] else "B"
+    ext, _ = program_extents(ngc)
+    if axis not in ext:
+        fail("the program never tilts: it cannot show a tilt limit")
+    lo, hi = ext[axis]
+    limit = m["limits"][axis.lower()]
     # one degree short of the program's extreme on the side the program passes first (the
     # controller stops there: the shorter the run)
-    at_max = first_line_beyond(ngc, "A", hi - 1.0, "max") if hi > 0.0 else None
-    at_min = first_line_beyond(ngc, "A", lo + 1.0, "min") if lo < 0.0 else None
+    at_max = first_line_beyond(ngc, axis, hi - 1.0, "max") if hi > 0.0 else None
+    at_min = first_line_beyond(ngc, axis, lo + 1.0, "min") if lo < 0.0 else None
     if at_max is None and at_min is None:
         fail("the program's tilt stays within one degree of 0")
     if at_min is None or (at_max is not None and at_max <= at_min):
-        a["max"] = hi - 1.0
-        side = "max %.4f (the program reaches %.4f, first beyond at line %d)" % (a["max"], hi, at_max)
+        limit["max"] = hi - 1.0
+        side = "%s max %.4f (the program reaches %.4f, first beyond at line %d)" % (axis, limit["max"], hi, at_max)
     else:
-        a["min"] = lo + 1.0
-        side = "min %.4f (the program reaches %.4f, first beyond at line %d)" % (a["min"], lo, at_min)
+        limit["min"] = lo + 1.0
+        side = "%s min %.4f (the program reaches %.4f, first beyond at line %d)" % (axis, limit["min"], lo, at_min)
     short = os.path.join(work, "machine_one_degree_short.json")
     with open(short, "w") as f:
         json.dump(m, f)
-    print("machine file with A %s" % side)
+    print("machine file with %s" % side)
     rc, res = run_controller(runner, short, ngc)
     if rc != 1:
         fail("the controller should refuse the program with a limit error (exit 1), got exit %d" % rc)
