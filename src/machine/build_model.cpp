@@ -43,10 +43,22 @@ BuildModel make_build_model(const MachineConfig& machine, const process::Process
   return m;
 }
 
-void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                  double spacing_mm) {
-  if (!(spacing_mm > 0.0) || !std::isfinite(spacing_mm)) return;  // no samples rather than no end
-  body.spacing_mm = body.spacing_mm > 0.0 ? std::min(body.spacing_mm, spacing_mm) : spacing_mm;
+bool add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                  double spacing_mm, std::size_t max_samples) {
+  if (!(spacing_mm > 0.0) || !std::isfinite(spacing_mm)) return true;  // no samples rather than no end
+  // Every piece has an area of at most √3/4 · spacing² and about half a sample: at least
+  // area / spacing² samples, refused before any is made.
+  double total_area = 0.0;
+  for (const auto& t : triangles) {
+    const double a = core::norm(core::cross(vertices[t[1]] - vertices[t[0]], vertices[t[2]] - vertices[t[0]]));
+    if (std::isfinite(a)) total_area += 0.5 * a;
+  }
+  if (total_area / (spacing_mm * spacing_mm) > static_cast<double>(max_samples)) return false;
+  const std::size_t first = body.surface_mm.size();
+  auto undo = [&] {
+    body.surface_mm.resize(first), body.normals.resize(first);
+    return false;
+  };
   std::vector<std::array<double, 3>> corners;  // of one triangle's pieces
   for (const auto& t : triangles) {
     const Vec3 a = vertices[t[0]], b = vertices[t[1]], c = vertices[t[2]];
@@ -57,6 +69,9 @@ void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const s
     // pieces is a sample (a sliver gives points along its length only).
     std::vector<std::array<Vec3, 3>> todo{{a, b, c}};
     while (!todo.empty()) {
+      // A triangle's pieces have about six corners for each sample they leave once shared corners
+      // are merged: a bound that keeps the corners of one giant triangle within 2 × MAX_SAMPLES.
+      if (body.surface_mm.size() - first + corners.size() / 3 > max_samples) return undo();
       const auto [p, q, r] = todo.back();
       todo.pop_back();
       const double pq = core::norm(q - p), qr = core::norm(r - q), rp = core::norm(p - r);
@@ -82,7 +97,10 @@ void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const s
     corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
     for (const auto& x : corners) body.surface_mm.push_back({x[0], x[1], x[2]}), body.normals.push_back(n);
     corners.clear();
+    if (body.surface_mm.size() - first > max_samples) return undo();
   }
+  body.spacing_mm = body.spacing_mm > 0.0 ? std::min(body.spacing_mm, spacing_mm) : spacing_mm;
+  return true;
 }
 
 double tip_clearance_mm(const BuildModel& m, Vec3 tip) { return tip.z - surface_under(m, tip.x, tip.y, 0.0); }

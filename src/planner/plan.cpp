@@ -67,7 +67,12 @@ core::Status place_checks(const std::vector<PlanRegion>& regions, const machine:
       deposited.push_back(r);
       continue;
     }
-    machine::add_prebuilt(plan.build_model.prebuilt, r.mesh.vertices, r.mesh.triangles, machine::kPrebuiltSpacingBeads * process.bead_width_mm);
+    if (!machine::add_prebuilt(plan.build_model.prebuilt, r.mesh.vertices, r.mesh.triangles, machine::kPrebuiltSpacingBeads * process.bead_width_mm)) {
+      return core::make_error(core::ErrorCode::kInfeasible,
+                              fmt::format("prebuilt region {}: its surface needs more than {} samples {:.3f} mm apart (a bead of {} mm)", r.id,
+                                          machine::kMaxPrebuiltSamples, machine::kPrebuiltSpacingBeads * process.bead_width_mm,
+                                          process.bead_width_mm));
+    }
   }
   if (auto s = detail::check_region_reach(deposited, machine, process); !s) return s;
   return detail::check_region_travel(deposited, machine);
@@ -717,7 +722,7 @@ std::size_t relieve_collisions(Plan& plan, const machine::MachineConfig& machine
         previous = &p, ++flat;
       }
     }
-    if (best_d == INFINITY) continue;
+    if (best_d > process.bead_width_mm) continue;  // a travel away from the path: not the torch's tilt
     marked.insert({layer, best});
     if (best > 0) marked.insert({layer, best - 1});
   }

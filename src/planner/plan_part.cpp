@@ -494,11 +494,12 @@ core::Status program_of(const machine::MachineConfig& machine, const process::Pr
   return {};
 }
 
-// Where the program read back still strikes earlier deposit, the torch turns further there and
-// the program is made and read back again, at most kReliefRounds times.
+// Where the program read back still strikes earlier deposit, or the plate or the table near a
+// layer's path, the torch turns further there and the program is made and read back again, at most
+// kReliefRounds times.
 core::Status relieve(const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanPartOptions& options,
                      PlanPartResult& out) {
-  for (int round = 0; round < kReliefRounds && out.check.material_collisions > 0; ++round) {
+  for (int round = 0; round < kReliefRounds && !out.check.collision_places.empty(); ++round) {
     if (relieve_collisions(out.plan, machine, process, options.plan, out.check.collision_places) == 0) break;
     if (auto s = program_of(machine, process, options, out); !s) return s;
   }

@@ -60,22 +60,16 @@ double get_finite(const Json& j) {
   return x;
 }
 
-// Surface samples of prebuilt regions a plan may ask for, at most (a fuzzed plan must not make a
-// reader run out of memory).
-constexpr double kMaxPrebuiltSamples = 4e6;  // area / spacing²: 200 MB of samples (a 300 × 300 mm plate needs 1.5e6)
-
 // The build model's prebuilt body from the regions marked prebuilt (plan.json keeps their meshes,
-// not the samples).
+// not the samples). A fuzzed plan must not make a reader run out of memory: a surface that needs
+// more than machine::kMaxPrebuiltSamples samples at the bead's spacing is refused.
 void add_prebuilt_regions(PlanView& view) {
   const double spacing = machine::kPrebuiltSpacingBeads * view.bead_width_mm;
   for (const planner::PlanRegion& r : view.regions) {
     if (!r.prebuilt) continue;
-    double area = 0.0;
-    for (std::size_t f = 0; f < r.mesh.triangles.size(); ++f) area += 0.5 * core::norm(mesh::face_area_vector(r.mesh, f));
-    if (!(spacing > 0.0) || !std::isfinite(area) || area / (spacing * spacing) > kMaxPrebuiltSamples) {
+    if (!(spacing > 0.0) || !machine::add_prebuilt(view.build_model.prebuilt, r.mesh.vertices, r.mesh.triangles, spacing)) {
       throw std::runtime_error(fmt::format("prebuilt region {}: its surface is too large for the bead width", r.id));
     }
-    machine::add_prebuilt(view.build_model.prebuilt, r.mesh.vertices, r.mesh.triangles, spacing);
   }
 }
 
@@ -284,8 +278,9 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
         view.reorientations.push_back(std::move(o));
       }
       view.build_model = get_build_model(doc.at("head"));
-      add_prebuilt_regions(view);
     }
+    // Always, so that a plan the reader accepts is one it accepts again as written.
+    add_prebuilt_regions(view);
   } catch (const std::exception& e) {
     return core::make_error(core::ErrorCode::kInvalidInput, fmt::format("{}: not a polyaxis plan: {}", source, e.what()));
   }

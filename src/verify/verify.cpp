@@ -430,6 +430,11 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
       if (fixture_collisions.size() < kMaxListedCollisions) {
         fixture_collisions.push_back({mv.line, mv.layer, mv.region, tp.tip_part_mm, "plate or table", -c});
       }
+      // Where the tilted head dips into the plate on a layer's path (or on the approach to it), the
+      // planner turns the torch (it takes only places on the path).
+      if (mv.layer >= 0 && out.collision_places.size() < kMaxCollisionPlaces) {
+        out.collision_places.emplace_back(static_cast<std::uint32_t>(mv.layer), tp.tip_part_mm);
+      }
     }
     HeadQuery q;
     q.tip = {static_cast<float>(tp.tip_part_mm.x), static_cast<float>(tp.tip_part_mm.y), static_cast<float>(tp.tip_part_mm.z)};

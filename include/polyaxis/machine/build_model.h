@@ -66,10 +66,12 @@ BuildModel make_build_model(const MachineConfig& machine, const process::Process
 // edge's middle until no edge is longer than that, each with its face's outward normal (a point
 // of the surface is within SPACING_MM / √3 of a sample; corners shared by faces are sampled by
 // each). Appended to BODY; nothing for a spacing that is not finite and positive, and faces with
-// non-finite corners are skipped.
-// Cost: linear in the surface area / spacing² plus the edges' length / spacing.
-void add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                  double spacing_mm);
+// non-finite corners are skipped. False, with BODY as it was, when that takes more than
+// MAX_SAMPLES samples (a surface too large for the spacing: a real one stays far below).
+// Cost: linear in the surface area / spacing² plus the edges' length / spacing, bounded by MAX_SAMPLES.
+inline constexpr std::size_t kMaxPrebuiltSamples = 4'000'000;  // 192 MB; the impeller's hub at 0.36 mm: about 0.2e6
+[[nodiscard]] bool add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                double spacing_mm, std::size_t max_samples = kMaxPrebuiltSamples);
 
 // The head's clearance with its tip at TIP and its axis (tip → up the nozzle, any length > 0)
 // along AXIS, both in the table frame: the least height of any head point above the surface under

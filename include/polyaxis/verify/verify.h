@@ -103,8 +103,9 @@ struct BuildCheck {
   std::uint64_t material_checks = 0;       // samples checked against the material
   std::uint64_t collisions = 0;            // head_collisions + material_collisions
   std::vector<Collision> collision_list;   // the first kMaxListedCollisions, in program order
-  // Where the head struck earlier deposit (the layer and the tip), the first kMaxCollisionPlaces,
-  // for the planner to turn the torch there (planner::relieve_collisions).
+  // Where the head struck earlier deposit, or the plate or the table on a layer's moves (the layer
+  // and the tip), the first kMaxCollisionPlaces, for the planner to turn the torch there
+  // (planner::relieve_collisions).
   std::vector<std::pair<std::uint32_t, core::Vec3>> collision_places;
   std::vector<std::string> first_problems; // up to 10, "line 120 (layer 3 region 0): ..."
 };

@@ -114,7 +114,7 @@ TEST(PrebuiltBody, SamplesCoverTheSurfaceAtTheSpacing) {
   for (const double spacing : {0.3, 1.0}) {
     for (const Case& c : cases) {
       PrebuiltBody body;
-      add_prebuilt(body, c.v, c.t, spacing);
+      ASSERT_TRUE(add_prebuilt(body, c.v, c.t, spacing));
       ASSERT_EQ(body.surface_mm.size(), body.normals.size());
       // Linear in the area / spacing² and the edges' length / spacing.
       double area = 0.0, edges = 0.0;
@@ -144,10 +144,26 @@ TEST(PrebuiltBody, SamplesCoverTheSurfaceAtTheSpacing) {
     }
   }
   PrebuiltBody none;
-  add_prebuilt(none, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.0);
-  add_prebuilt(none, {{0, 0, 0}, {INFINITY, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.5);
-  add_prebuilt(none, {{0, 0, 0}, {NAN, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.5);
+  EXPECT_TRUE(add_prebuilt(none, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.0));
+  EXPECT_TRUE(add_prebuilt(none, {{0, 0, 0}, {INFINITY, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.5));
+  EXPECT_TRUE(add_prebuilt(none, {{0, 0, 0}, {NAN, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.5));
   EXPECT_TRUE(none.empty());
+}
+
+// A surface too large for the spacing is refused, the body left as it was, before the samples
+// take the memory: a fuzzed plan.json with a prebuilt region stretched 9 m (a vertex at Y 9190)
+// took 27 s and 2.4 GB to read (tests/fuzz/corpus/plan_json/prebuilt_9m.json).
+TEST(BuildModel, APrebuiltSurfaceTooLargeForTheSpacingIsRefused) {
+  PrebuiltBody body;
+  ASSERT_TRUE(add_prebuilt(body, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}, 0.36));
+  const std::size_t before = body.surface_mm.size();
+  const std::vector<Vec3> v{{-15, -10, 40}, {-15, 9190, 40}, {-15, 10, 60}};  // 9200 mm by 20 mm
+  EXPECT_FALSE(add_prebuilt(body, v, {{0, 1, 2}}, 0.36, 100'000));
+  EXPECT_EQ(body.surface_mm.size(), before);
+  EXPECT_EQ(body.normals.size(), before);
+  // The same face at a spacing it fits in is sampled.
+  EXPECT_TRUE(add_prebuilt(body, v, {{0, 1, 2}}, 10.0, 100'000));
+  EXPECT_GT(body.surface_mm.size(), before);
 }
 
 }  // namespace

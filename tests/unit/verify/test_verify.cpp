@@ -137,6 +137,15 @@ TEST(Verify, AHeadTiltedOverThePlateEntersIt) {
   EXPECT_NEAR(rb.worst_head_mm, c.worst_head_depth_mm, 1e-6);
   // Upright at the same height: clear.
   EXPECT_EQ(s.verify("G21 G90 G94 G17\nG0 X0 Y0 Z1 A0 C0\nM2\n").head_collisions, 0u);
+  // Outside any layer the strike is no place for the planner to turn the torch; on a layer's move
+  // (here its approach, the process off, as on the bumpy bench mesh's decomposition, where one
+  // such strike of 0.12 mm threw the whole decomposition away) it is: the layer and the tip.
+  EXPECT_TRUE(c.collision_places.empty());
+  const auto on_layer = s.verify("G21 G90 G94 G17\n(layer 3 region 1 approach)\nG0 " + machine::format_pose(s.m, pose.value()) + "\nM2\n");
+  EXPECT_GT(on_layer.head_collisions, 0u);
+  ASSERT_FALSE(on_layer.collision_places.empty());
+  EXPECT_EQ(on_layer.collision_places.front().first, 3u);
+  EXPECT_LT(core::norm(on_layer.collision_places.front().second - tip), 1e-2);
 }
 
 TEST(Verify, TurningWithTheProcessOnStallsTheTip) {
