@@ -32,31 +32,33 @@ def fail(msg):
     sys.exit(1)
 
 
-def first_line_beyond(ngc, axis, limit, side):
-    """the first line whose AXIS word goes beyond LIMIT on SIDE ('max' or 'min')"""
+def axis_words(ngc):
+    """(line number, [(axis letter, value), ...]) for each line of NGC with axis words, comments
+    removed (LinuxCNC's line numbers start at 1)"""
     with open(ngc) as f:
         for n, line in enumerate(f, 1):
             line = re.sub(r"\(.*?\)|;.*", "", line).upper()
-            for ax, v in re.findall(r"([XYZABC])\s*([-+]?[0-9.]+)", line):
-                if ax == axis and (float(v) > limit if side == "max" else float(v) < limit):
-                    return n
+            words = [(ax, float(v)) for ax, v in re.findall(r"([XYZABC])\s*([-+]?[0-9.]+)", line)]
+            if words:
+                yield n, words
+
+
+def first_line_beyond(ngc, axis, limit, side):
+    """the first line whose AXIS word goes beyond LIMIT on SIDE ('max' or 'min')"""
+    for n, words in axis_words(ngc):
+        if any(ax == axis and (v > limit if side == "max" else v < limit) for ax, v in words):
+            return n
     return None
 
 
 def program_extents(ngc):
-    """per axis word: [min, max] over the program's motion lines, and the number of its last line
-    that carries a motion word (LinuxCNC's line numbers start at 1)"""
+    """per axis word: [min, max] over the program, and the number of its last line with an axis word"""
     ext, last = {}, 0
-    with open(ngc) as f:
-        for n, line in enumerate(f, 1):
-            line = re.sub(r"\(.*?\)|;.*", "", line).upper()
-            words = re.findall(r"([XYZABC])\s*([-+]?[0-9.]+)", line)
-            if not words:
-                continue
-            last = n
-            for ax, v in words:
-                lo, hi = ext.get(ax, (float("inf"), float("-inf")))
-                ext[ax] = (min(lo, float(v)), max(hi, float(v)))
+    for n, words in axis_words(ngc):
+        last = n
+        for ax, v in words:
+            lo, hi = ext.get(ax, (float("inf"), float("-inf")))
+            ext[ax] = (min(lo, v), max(hi, v))
     return ext, last
 
 
