@@ -44,13 +44,6 @@ bool clear_samples(Vec3 p, Vec3 a, Vec3 q, Vec3 b, int first, bool last_too, Cle
   return true;
 }
 
-// Every sample of the move from (P, A) to (Q, B), both ends included, against the plate, the table
-// and the deposit.
-bool clear_move(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
-                double margin_mm, Vec3 p, Vec3 a, Vec3 q, Vec3 b) {
-  return clear_samples(p, a, q, b, 0, true, [&](Vec3 tip, Vec3 axis) { return clear_at(model, deposit, before, clearance_mm, margin_mm, tip, axis); });
-}
-
 // The samples of the move from (P, A) to (Q, B) strictly between its ends against the deposit only.
 bool clear_move_deposit(const verify::DepositCheck& deposit, std::size_t before, double margin_mm, Vec3 p, Vec3 a, Vec3 q, Vec3 b) {
   return clear_samples(p, a, q, b, 1, false, [&](Vec3 tip, Vec3 axis) { return !deposit.strikes(tip, axis, before, margin_mm); });
@@ -80,8 +73,15 @@ bool clear_turn_deposit(const verify::DepositCheck& deposit, std::size_t before,
   return true;
 }
 
-// True when some vertex of a region other than LAYER's own lies above LAYER's plane within REACH_MM
-// of its section (bounding circle): only there can a head along the layer's normal strike deposit.
+// Every sample of the move from (P, A) to (Q, B), both ends included, against the plate, the table
+// and the deposit.
+bool clear_move(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
+                double margin_mm, Vec3 p, Vec3 a, Vec3 q, Vec3 b) {
+  return clear_samples(p, a, q, b, 0, true, [&](Vec3 tip, Vec3 axis) { return clear_at(model, deposit, before, clearance_mm, margin_mm, tip, axis); });
+}
+
+}  // namespace
+
 bool others_above(const Plan& plan, std::size_t layer, double reach_mm) {
   const slicing::Layer& l = plan.layers.layers[layer];
   double u0 = INFINITY, v0 = INFINITY, u1 = -INFINITY, v1 = -INFINITY;
@@ -105,8 +105,6 @@ bool others_above(const Plan& plan, std::size_t layer, double reach_mm) {
   return false;
 }
 
-}  // namespace
-
 std::vector<verify::PlannedPoint> planned_points(const Plan& plan) {
   std::vector<verify::PlannedPoint> out;
   for (const toolpath::LayerToolpaths& lt : plan.toolpaths) {
@@ -118,7 +116,7 @@ std::vector<verify::PlannedPoint> planned_points(const Plan& plan) {
 }
 
 void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOptions& options, const verify::DepositCheck& deposit,
-                double bead_mm) {
+                double bead_mm, double steady_turn_rad_per_mm) {
   const double reach = reach_rad(machine), margin = kDepositMarginBeads * bead_mm;
   const double tilted_cos = std::cos(kTiltedDeg * kPi / 180.0);
   const std::uint32_t root = plan.placed_regions.empty() ? 0 : plan.placed_regions.front().id;
@@ -136,36 +134,54 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
   }
   tbb::parallel_for(std::size_t{0}, plan.toolpaths.size(), [&](std::size_t k) {
     const Vec3 n = plan.layers.layers[k].frame.d;
-    const toolpath::PathPoint* previous = nullptr;  // the layer's point before, across its paths
+    toolpath::PathPoint* previous = nullptr;  // the layer's point before, across its paths
+    toolpath::PathPoint* previous2 = nullptr;  // and the one before that
     const bool exposed = plan.region_of_layer[k] != root && others_above(plan, k, head_reach);
+    auto is_tilted = [&](const toolpath::PathPoint& q) { return core::dot(core::normalized(q.tool_axis), n) < tilted_cos; };
+    // The point I at TIP with AXIS, and the move into it from BEFORE (its axis FROM_AXIS; none for
+    // a layer's first point), against the deposit: the axis turning on the way, or, where the rotary
+    // axes cannot keep up (the G-code writer's stall split), turned in place first and held along the
+    // move, which also keeps clear of the plate and the table.
+    auto strikes_at = [&](std::size_t i, Vec3 tip, Vec3 axis, const toolpath::PathPoint* before, Vec3 from_axis) {
+      if (deposit.strikes(tip, axis, i, margin)) return true;
+      if (before == nullptr) return false;
+      const Vec3 from = before->position_mm;
+      // Over the move no head point comes nearer than the move's length plus the turn times its
+      // distance from the tip: clear with that margin, the move is clear.
+      const double turn = turn_rad(from_axis, axis);
+      const double length = core::norm(tip - from);
+      if (length <= kBroadCheckMm && turn <= kBroadCheckRad && !deposit.strikes(tip, axis, i, margin + length, turn)) return false;
+      if (turn < 1e-6) return !clear_move_deposit(deposit, i, margin, from, axis, tip, axis);
+      // The plate and the table, which each end's guard kept clear at its own tip only: on the way,
+      // and turned in place where the turn is faster than the paths' own (smoothed) rate.
+      const machine::BuildModel& model = plan.build_model;
+      if (!move_clear(model, options.head_clearance_mm, from, from_axis, tip, axis)) return true;
+      if (turn > steady_turn_rad_per_mm * length &&
+          (!move_clear(model, options.head_clearance_mm, from, from_axis, from, axis) || !move_clear(model, options.head_clearance_mm, from, axis, tip, axis))) {
+        return true;
+      }
+      return !clear_move_deposit(deposit, i, margin, from, from_axis, tip, axis) || !clear_move_deposit(deposit, i, margin, from, from_axis, from, axis) ||
+             !clear_turn_deposit(deposit, i, margin, from, from_axis, axis) || !clear_move_deposit(deposit, i, margin, from, axis, tip, axis);
+    };
+    // AXIS turned up where the plate, the table or the reach need it (guard_axis); false where no turn does.
+    auto guarded = [&](Vec3 tip, Vec3& axis) {
+      return guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, tip, n, axis);
+    };
     std::size_t flat = first[k];
     for (toolpath::Path& path : plan.toolpaths[k].paths) {
       for (toolpath::PathPoint& p : path.points) {
         const std::size_t i = flat++;
-        // The point, and the move into it from the layer's point before: the axis turning on the
-        // way, or, where the rotary axes cannot keep up (the G-code writer's stall split), turned in
-        // place first and held along the move.
-        const toolpath::PathPoint* before = previous;
-        previous = &p;
-        auto strikes = [&](Vec3 axis) {
-          if (deposit.strikes(p.position_mm, axis, i, margin)) return true;
-          if (before == nullptr) return false;
-          const Vec3 from = before->position_mm;
-          // Over the move no head point comes nearer than the move's length plus the turn times its
-          // distance from the tip: clear with that margin, the move is clear.
-          const double turn = turn_rad(before->tool_axis, axis);
-          const double length = core::norm(p.position_mm - from);
-          if (length <= kBroadCheckMm && turn <= kBroadCheckRad && !deposit.strikes(p.position_mm, axis, i, margin + length, turn)) return false;
-          if (turn < 1e-6) return !clear_move_deposit(deposit, i, margin, from, axis, p.position_mm, axis);
-          return !clear_move_deposit(deposit, i, margin, from, before->tool_axis, p.position_mm, axis) ||
-                 !clear_move_deposit(deposit, i, margin, from, before->tool_axis, from, axis) ||
-                 !clear_turn_deposit(deposit, i, margin, from, before->tool_axis, axis) ||
-                 !clear_move_deposit(deposit, i, margin, from, axis, p.position_mm, axis);
-        };
+        toolpath::PathPoint* before = previous;
+        toolpath::PathPoint* before2 = previous2;
+        previous2 = previous, previous = &p;
+        auto strikes = [&](Vec3 axis) { return strikes_at(i, p.position_mm, axis, before, before ? before->tool_axis : axis); };
         // Along the layer's normal a planar layer's head stays above everything its own region
-        // laid before: only other regions' deposit above the layer's plane can be struck there.
-        const bool tilted = core::dot(core::normalized(p.tool_axis), n) < tilted_cos;
-        if ((!tilted && !exposed) || !strikes(p.tool_axis)) continue;
+        // laid before: only other regions' deposit above the layer's plane can be struck there, or
+        // the head turning back from a tilt on the move into the point (a travel between paths is
+        // routed around by the program instead: make_program).
+        const bool tilted = is_tilted(p);
+        const bool turning_back = before != nullptr && path.kind != toolpath::PathKind::kTravel && is_tilted(*before);
+        if ((!tilted && !exposed && !turning_back) || !strikes(p.tool_axis)) continue;
         // Towards the layer's normal first, then towards the table's (within the torch's tilt limit).
         std::vector<Vec3> candidates;
         for (const double f : {0.25, 0.5, 0.75, 1.0}) {
@@ -175,10 +191,23 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
           const Vec3 up = core::normalized(p.tool_axis * (1.0 - f) + Vec3{0, 0, 1} * f);
           if (core::norm(up) > 0.5 && core::dot(up, n) >= std::cos(toolpath::kMaxTiltRad)) candidates.push_back(up);
         }
+        bool eased = false;
         for (Vec3 axis : candidates) {
-          if (!guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, n, axis)) continue;
-          if (strikes(axis)) continue;
+          if (!guarded(p.position_mm, axis) || strikes(axis)) continue;
           p.tool_axis = axis;
+          ++plan.toolpaths[k].axes_eased;
+          eased = true;
+          break;
+        }
+        if (eased || !turning_back) continue;
+        // The point cannot turn: the point before turns towards the layer's normal instead, where
+        // the moves into it and out of it then clear.
+        for (const double f : {0.25, 0.5, 0.75, 1.0}) {
+          Vec3 axis = core::normalized(before->tool_axis * (1.0 - f) + n * f);
+          if (!guarded(before->position_mm, axis)) continue;
+          if (strikes_at(i - 1, before->position_mm, axis, before2, before2 ? before2->tool_axis : axis)) continue;
+          if (strikes_at(i, p.position_mm, p.tool_axis, before, axis)) continue;
+          before->tool_axis = axis;
           ++plan.toolpaths[k].axes_eased;
           break;
         }
@@ -205,6 +234,25 @@ std::vector<TransitPoint> clear_travel(const machine::BuildModel& model, const v
     }
   }
   return transit(from, a, to, b, centre, radius);
+}
+
+std::vector<TransitPoint> layer_travel(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before,
+                                       double clearance_mm, double margin_mm, Vec3 from, Vec3 a, Vec3 to, Vec3 b) {
+  a = core::normalized(a), b = core::normalized(b);
+  // FROM and TO are deposit points (their guard took them): the samples between them only.
+  const auto clear_between = [&](Vec3 p, Vec3 pa, Vec3 q, Vec3 qb, bool from_end, bool to_end, double plate_mm) {
+    return clear_samples(p, pa, q, qb, from_end ? 1 : 0, !to_end,
+                         [&](Vec3 tip, Vec3 axis) { return clear_at(model, deposit, before, plate_mm, margin_mm, tip, axis); });
+  };
+  if (clear_between(from, a, to, b, true, true, 0.0)) return {};
+  for (const double lift : kLiftsMm) {
+    const Vec3 p = from + a * lift, q = to + b * lift;
+    if (clear_between(from, a, p, a, true, false, clearance_mm) && clear_between(p, a, q, b, false, false, clearance_mm) &&
+        clear_between(q, b, to, b, false, true, clearance_mm)) {
+      return {{p, a}, {q, b}};
+    }
+  }
+  return {};
 }
 
 }  // namespace polyaxis::planner::detail

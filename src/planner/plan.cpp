@@ -273,6 +273,10 @@ void make_program(Plan& plan, const machine::MachineConfig& machine, const proce
   }
   sphere_radius += options.retract_mm * (1.0 + kTransitMarginShare);
   const double reach = detail::reach_rad(machine), margin = detail::kDepositMarginBeads * process.bead_width_mm;
+  const double tilted_cos = std::cos(kTiltedDeg * kPi / 180.0);
+  const std::uint32_t root = plan.placed_regions.empty() ? 0 : plan.placed_regions.front().id;
+  const machine::NozzleModel& nozzle = plan.build_model.nozzle;
+  const double head_reach = std::max(nozzle.cylinder_radius_mm, nozzle.cone_height_mm * std::tan(nozzle.tip_half_angle_deg * kPi / 180.0));
   auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
     post::ProgramPoint p;
     p.tip_part_mm = tip;
@@ -292,6 +296,9 @@ void make_program(Plan& plan, const machine::MachineConfig& machine, const proce
     plan.thin_regions += lt.thin.size();
     for (const auto& thin : lt.thin) plan.thin_area_mm2 += thin.area_mm2;
     bool first_in_layer = true;
+    const Vec3 normal = plan.layers.layers[lt.layer].frame.d;
+    auto turned = [&](const toolpath::PathPoint& p) { return core::dot(core::normalized(p.tool_axis), normal) < tilted_cos; };
+    const bool exposed = region_id != root && detail::others_above(plan, lt.layer, head_reach);
     for (const toolpath::Path& path : lt.paths) {
       if (path.points.empty()) continue;
       const char* kind = path.kind == toolpath::PathKind::kPerimeter ? "perimeter" : (path.kind == toolpath::PathKind::kFill ? "fill" : "travel");
@@ -319,6 +326,19 @@ void make_program(Plan& plan, const machine::MachineConfig& machine, const proce
         }
         push(approach, p0.tool_axis, false, lt.layer, "approach");
         first_in_layer = false;
+      }
+      if (path.kind == toolpath::PathKind::kTravel && path.points.size() == 2 && (turned(path.points[0]) || turned(path.points[1]) || exposed)) {
+        // Between two paths of the layer the head may sweep through what the layer laid (the
+        // torch turning back from a tilt) or what another region laid above it: around where so.
+        const toolpath::PathPoint &from = path.points[0], &to = path.points[1];
+        push(from.position_mm, from.tool_axis, false, lt.layer, comment);
+        const auto via = detail::layer_travel(plan.build_model, deposit, flat, options.head_clearance_mm, margin, from.position_mm, from.tool_axis,
+                                              to.position_mm, to.tool_axis);
+        plan.travel_detours += via.empty() ? 0 : 1;
+        for (const TransitPoint& t : via) push(t.tip, t.axis, false, lt.layer, "");
+        push(to.position_mm, to.tool_axis, false, lt.layer, "");
+        flat += path.points.size();
+        continue;
       }
       for (std::size_t i = 0; i < path.points.size(); ++i) {
         const toolpath::PathPoint& p = path.points[i];
@@ -545,6 +565,12 @@ void trim_over_prebuilt(slicing::SliceResult& layers, const std::vector<PlanRegi
   }
 }
 
+// The tilt may change no faster than the tilt axis turns at kRotaryShare of its limit while the tip
+// moves at the deposit feed (degrees per mm of path).
+double steady_turn_deg_per_mm(const machine::MachineConfig& machine, const process::ProcessConfig& process) {
+  return kRotaryShare * machine.feed.rotary_max_deg_min / 60.0 / process.deposit_feed_mm_s;
+}
+
 // Slices REGION (placed) along its direction, makes its toolpaths with the torch guarded, and
 // appends its layers to PLAN, numbered after those there; REGIONS (placed): all of the plan's, for
 // its prebuilt ones (trim_over_prebuilt). TOPOLOGY: the whole part's, for an undivided part (null
@@ -565,9 +591,7 @@ core::Status add_region(Plan& plan, PlanRegion& region, const std::vector<PlanRe
   tp.tilt_on_overhang = options.tilt_on_overhang && machine::has_rotary_axes(machine.kind);
   tp.threads = options.threads;
   tp.region = region.id;
-  // The tilt may change no faster than the tilt axis turns at kRotaryShare of its limit while the
-  // tip moves at the deposit feed.
-  tp.max_axis_turn_deg_per_mm = kRotaryShare * machine.feed.rotary_max_deg_min / 60.0 / process.deposit_feed_mm_s;
+  tp.max_axis_turn_deg_per_mm = steady_turn_deg_per_mm(machine, process);
   auto paths = toolpath::make_toolpaths(region.mesh, layers.value(), tp);
   if (!paths) return paths.error();
   if (auto s = guard_axes(plan, machine, options, region, layers.value(), paths.value()); !s) return s.error();
@@ -682,7 +706,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   // Tilts eased where the head would strike what is built before them, in build order; the support
   // check then judges the torch as it will be.
   const verify::DepositCheck deposit(plan.build_model, detail::planned_points(plan), process.bead_width_mm);
-  detail::ease_tilts(plan, machine, options, deposit, process.bead_width_mm);
+  detail::ease_tilts(plan, machine, options, deposit, process.bead_width_mm, steady_turn_deg_per_mm(machine, process) * kPi / 180.0);
   plan.times.sequence_s = since(t0);
   t0 = Clock::now();
   detail::check_support(plan, process);
@@ -761,6 +785,7 @@ std::size_t relieve_collisions(Plan& plan, const machine::MachineConfig& machine
     }
   }
   if (turned == 0) return 0;
+  ++plan.relief_rounds;
   plan.layer_reports.clear();
   plan.unsupported_area_mm2 = 0.0;
   detail::check_support(plan, process);

@@ -360,6 +360,30 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   return c;
 }
 
+// A ceiling: faces turned down within kCeilingDeg of the build direction's opposite, more than
+// the thickest layer above the part's lowest point, of kCeilingMm2 or more in all. No torch tilt
+// holds a ceiling (the sideways step per layer is bounded: support.h), so one direction leaves it
+// unsupported.
+constexpr double kCeilingDeg = 10.0;
+constexpr double kCeilingMm2 = 1.0;
+
+bool has_ceiling(const mesh::Mesh& m, Vec3 d, double layer_mm) {
+  d = core::normalized(d);
+  double lowest = INFINITY;
+  for (const Vec3& v : m.vertices) lowest = std::min(lowest, core::dot(v, d));
+  const double down_cos = std::cos(kCeilingDeg * std::numbers::pi / 180.0);
+  double area = 0.0;
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+    const Vec3 n = mesh::face_area_vector(m, f);
+    const double a = core::norm(n);
+    if (a == 0.0 || core::dot(n, d) > -down_cos * a) continue;
+    const auto& t = m.triangles[f];
+    const double low = std::min({core::dot(m.vertices[t[0]], d), core::dot(m.vertices[t[1]], d), core::dot(m.vertices[t[2]], d)});
+    if (low - lowest > layer_mm) area += 0.5 * a;
+  }
+  return area >= kCeilingMm2;
+}
+
 // True when A is the better plan: less unsupported area, then fewer regions, then fewer reorientations.
 bool better(const Plan& a, const Plan& b) {
   if (std::abs(a.unsupported_area_mm2 - b.unsupported_area_mm2) > kUnsupportedNoiseMm2) return a.unsupported_area_mm2 < b.unsupported_area_mm2;
@@ -427,8 +451,26 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
     if (!best || better(c.value().plan, best->plan)) best = std::move(c.value()), best_label = label;
   };
   auto done = [&] { return best && best->plan.unsupported_area_mm2 == 0.0; };
-  consider(plan_single(part, machine, process, o), "one build direction");
-  if (!done()) consider(plan_decomposed(part, machine, process, o, o.root_base), "the decomposition");
+  if (has_ceiling(part.mesh, o.direction, process.layer_max_mm)) {
+    // One direction cannot be support-free: the decomposition is needed, and is made alongside it
+    // (the same two candidates as one after the other, in less time).
+    std::optional<core::Result<Candidate>> single, decomposed;
+    const auto progress = core::ProgressScope::current();  // each side may run on a worker thread
+    tbb::parallel_invoke(
+        [&] {
+          const core::ProgressScope scope(progress);
+          single.emplace(plan_single(part, machine, process, o));
+        },
+        [&] {
+          const core::ProgressScope scope(progress);
+          decomposed.emplace(plan_decomposed(part, machine, process, o, o.root_base));
+        });
+    consider(std::move(*single), "one build direction");
+    consider(std::move(*decomposed), "the decomposition");
+  } else {
+    consider(plan_single(part, machine, process, o), "one build direction");
+    if (!done()) consider(plan_decomposed(part, machine, process, o, o.root_base), "the decomposition");
+  }
   if (!done() && o.root_base.kind == analysis::RootBase::Kind::kAuto) {
     if (!root_at_lowest) {
       analysis::RootBase lowest;

@@ -56,6 +56,7 @@ std::string report_json(const planner::Plan& plan, const verify::SimulationRepor
   j["axes_turned"] = plan.axes_turned;
   j["tilts_eased"] = plan.tilts_eased;
   j["travel_detours"] = plan.travel_detours;
+  j["relief_rounds"] = plan.relief_rounds;
   if (check != nullptr) {
     // The program read back through forward kinematics against the build model (docs/plan.md).
     j["build_check"] = {{"samples", check->samples},

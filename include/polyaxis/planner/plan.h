@@ -217,6 +217,9 @@ struct Plan {
   // Toolpath points turned after reading the program back (relieve_collisions), keyed by layer and
   // point (flat within the layer), with how far along the candidates each went.
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> relieved;
+  // Rounds in which relieve_collisions turned points and the program was made again: zero where
+  // the planner's own checks (clearance.h) left nothing for the read-back to find.
+  std::uint32_t relief_rounds = 0;
   double deposit_length_mm = 0.0;
   double travel_length_mm = 0.0;
   double unsupported_area_mm2 = 0.0;

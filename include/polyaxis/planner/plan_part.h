@@ -72,7 +72,9 @@ struct PlanPartResult {
 // - kDecompose: the part's centroidal axis and region tree (analysis::decompose, rooted at
 //   options.root_base), then make_plan over the regions.
 // - kAuto: kSingle; when that is not support-free, kDecompose too (rooted at options.root_base,
-//   then at the lowest point when that root leaves a region below the plate or out of reach). Keeps
+//   then at the lowest point when that root leaves a region below the plate or out of reach); when
+//   the part has a ceiling along the direction (faces turned down, which no torch tilt holds), the
+//   two are made side by side, with the same result as one after the other. Keeps
 //   the plan with the least unsupported area; on a tie the fewer regions, then the fewer
 //   reorientations. A candidate that fails is skipped when the other succeeds.
 // Then the G-code, its simulation against the plan and its verification against the build model.

@@ -1,0 +1,173 @@
+// The planner's own clearance checks (planner/clearance.h): the moves the program makes, checked
+// before any G-code exists, so that the read-back verification finds nothing left to relieve.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "planner/clearance.h"
+#include "polyaxis/machine/build_model.h"
+#include "polyaxis/planner/plan_part.h"
+#include "polyaxis/verify/deposit_check.h"
+#include "support/meshes.h"
+#include "support/programs.h"
+#include "support/repaired.h"
+
+namespace polyaxis::planner::detail {
+namespace {
+
+constexpr double kBead = 1.2;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// A wall of beads along Y at X = 20, LAYERS layers of 0.6 mm from the plate's top, 20 mm long:
+// planned points, the wall laid before the travel (its points come first).
+std::vector<verify::PlannedPoint> wall(int layers) {
+  std::vector<verify::PlannedPoint> out;
+  for (int k = 0; k < layers; ++k) {
+    const double z = 0.3 + 0.6 * k;
+    out.push_back({{20.0, -10.0, z}, false});
+    out.push_back({{20.0, 10.0, z}, true});
+  }
+  return out;
+}
+
+TEST(LayerTravel, AStraightTravelThroughTheWallGoesOverItAndOneBesideItStaysStraight) {
+  const machine::MachineConfig m = test::example_machine("ded5_ac");
+  const process::ProcessConfig p = test::default_process();
+  const machine::BuildModel model = machine::make_build_model(m, p, -40, -40, 40, 40);
+  // Walls taller than the tip's own zone (verify::kIgnoreBeads), which the nozzle's cone meets, and
+  // lower than the cylinder above the cone (20 mm up; it is 25 mm wide: over a taller wall 20 mm
+  // away the head at the travel's start would already be in it).
+  for (const int layers : {12, 30}) {
+    const auto points = wall(layers);
+    const verify::DepositCheck deposit(model, points, kBead);
+    const Vec3 up{0, 0, 1};
+    // From one side of the wall to the other, on the plate: the nozzle would cut through it.
+    const Vec3 from{0.0, 0.0, 0.3}, to{40.0, 0.0, 0.3};
+    const auto via = layer_travel(model, deposit, points.size(), 0.5, 0.5 * kBead, from, up, to, up);
+    ASSERT_EQ(via.size(), 2u) << layers;
+    // Out along the axis above the wall's top, across, and down.
+    EXPECT_GT(via[0].tip.z, 0.3 + 0.6 * layers) << layers;
+    EXPECT_DOUBLE_EQ(via[0].tip.z, via[1].tip.z);
+    EXPECT_DOUBLE_EQ(via[0].tip.x, from.x);
+    EXPECT_DOUBLE_EQ(via[1].tip.x, to.x);
+    // Every 0.25 mm of the three legs clear of the wall.
+    const Vec3 legs[] = {from, via[0].tip, via[1].tip, to};
+    for (int leg = 0; leg < 3; ++leg) {
+      const Vec3 a = legs[leg], b = legs[leg + 1];
+      const int n = static_cast<int>(std::ceil(core::norm(b - a) / 0.25));
+      for (int i = leg == 0 ? 1 : 0; i < (leg == 2 ? n : n + 1); ++i) {
+        EXPECT_FALSE(deposit.strikes(a + (b - a) * (static_cast<double>(i) / n), up, points.size(), 0.0)) << layers << " leg " << leg << " " << i;
+      }
+    }
+    // Parallel to the wall, 15 mm beside it: straight.
+    EXPECT_TRUE(layer_travel(model, deposit, points.size(), 0.5, 0.5 * kBead, {0, -10, 0.3}, up, {0, 10, 0.3}, up).empty()) << layers;
+    // Before the wall was laid (program point 0): straight through where it will stand.
+    EXPECT_TRUE(layer_travel(model, deposit, 0, 0.5, 0.5 * kBead, from, up, to, up).empty()) << layers;
+  }
+}
+
+// A mushroom: a stem (R_STEM) under a cap spreading out at OVERHANG_DEG from vertical, both
+// revolved; the cap's perimeters are laid with the torch tilted over the overhang and its fill
+// along the layer's normal, so the head turns back from the tilt on the fill's first move.
+io::RawMesh mushroom(double r_stem, double overhang_deg, double cap_h) {
+  const double spread = cap_h * std::tan(overhang_deg * std::numbers::pi / 180.0);
+  return test::revolve({{r_stem, 0.0}, {r_stem, 8.0}, {r_stem + spread, 8.0 + cap_h}, {r_stem + spread, 10.0 + cap_h}}, 96);
+}
+
+TEST(EaseTilts, ThePlansOwnChecksLeaveTheReadBackNothingToRelieve) {
+  // Parts of my own with tilted torches over overhangs, at several sizes and angles, and a
+  // decomposed one: every plan reads back clean the first time (no relief round), which needs the
+  // move from a tilted point to one along the normal (the head turning back) checked, and the
+  // travel between paths routed around the layer's deposit.
+  const machine::MachineConfig m = test::example_machine("ded5_ac");
+  const process::ProcessConfig p = test::default_process();
+  struct Case {
+    io::RawMesh part;
+    Strategy strategy;
+  };
+  const std::vector<Case> cases{{mushroom(6.0, 40.0, 10.0), Strategy::kSingle},
+                                {mushroom(10.0, 50.0, 8.0), Strategy::kSingle},
+                                {mushroom(4.0, 55.0, 6.0), Strategy::kSingle},
+                                // An L whose arm juts out sideways at the top: decomposed.
+                                {test::prism_xz({{0, 0}, {10, 0}, {10, 14}, {30, 14}, {30, 20}, {0, 20}}, 16.0), Strategy::kDecompose}};
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    PlanPartOptions o;
+    o.strategy = cases[k].strategy;
+    auto r = plan_part(test::repaired(cases[k].part), m, p, o);
+    ASSERT_TRUE(r.ok()) << k << ": " << r.error().message;
+    EXPECT_EQ(r.value().plan.relief_rounds, 0u) << k;
+    EXPECT_EQ(r.value().check.collisions, 0u) << k;
+    if (cases[k].strategy == Strategy::kSingle) {
+      EXPECT_GT(r.value().plan.max_tilt_deg, 5.0) << k;  // the torch did tilt
+    }
+  }
+}
+
+
+// High enough over the plate that the head tilted 60° keeps clear of it (the cylinder's rim dips
+// 21.7 mm below its centre, 10 mm above the tip).
+constexpr double kLayerZ = 40.0;
+
+// One layer along +Z at Z = kLayerZ with a bead laid first at BEAD, then a path P0 → P1 → P2: P0 20 mm
+// along −Y with the torch along the normal, P1 with the torch tilted 60° towards +X, P2 3 mm back
+// along −X with the torch along the normal again.
+Plan turning_back_plan(const machine::MachineConfig& m, const process::ProcessConfig& p, Vec3 bead) {
+  Plan plan;
+  plan.build_model = machine::make_build_model(m, p, -40, -40, 40, 40);
+  slicing::Layer layer;
+  layer.frame = slicing::plane_frame({0, 0, 1}, kLayerZ);
+  plan.layers.layers = {layer};
+  plan.region_of_layer = {0};
+  plan.placed_regions.resize(1);
+  const Vec3 up{0, 0, 1}, tilted{std::sin(60.0 * kDeg), 0.0, std::cos(60.0 * kDeg)};
+  const Vec3 p1{0.0, 0.0, kLayerZ};
+  toolpath::LayerToolpaths lt;
+  toolpath::Path laid, path;
+  laid.kind = path.kind = toolpath::PathKind::kFill;
+  laid.points = {{bead, up, false}, {bead + Vec3{0.0, 0.6, 0.0}, up, true}};
+  path.points = {{p1 - Vec3{0.0, 20.0, 0.0}, up, false}, {p1, tilted, true}, {p1 - Vec3{3.0, 0.0, 0.0}, up, true}};
+  lt.paths = {laid, path};
+  plan.toolpaths = {lt};
+  return plan;
+}
+
+TEST(EaseTilts, TheHeadTurningBackFromATiltToTheNormalIsCheckedAndTheTiltEased) {
+  // A bead 12 mm from P1 in a direction 28° from the middle of the turn from P1's tilt (60° towards
+  // +X) to the normal, off to the side (+Y): 40° from either end (clear of the 30° cone with its
+  // margins), inside the cone half way. Moving from P1 to P2 (3 mm, turning 60°: in place where the
+  // rotary axes cannot keep up) the head sweeps through the bead. P2 lies along the normal, where a
+  // planar layer's own deposit is never struck; the move into it is checked all the same, and, P2
+  // having nowhere to turn, P1's tilt is eased towards the normal until the move clears.
+  const machine::MachineConfig m = test::example_machine("ded5_ac");
+  const process::ProcessConfig p = test::default_process();
+  const Vec3 mid{std::sin(30.0 * kDeg), 0.0, std::cos(30.0 * kDeg)}, side{0, 1, 0};
+  const Vec3 u = mid * std::cos(28.0 * kDeg) + side * std::sin(28.0 * kDeg);
+  const Vec3 bead = Vec3{0.0, 0.0, kLayerZ} + u * 12.0;
+  Plan plan = turning_back_plan(m, p, bead);
+  const verify::DepositCheck deposit(plan.build_model, planned_points(plan), p.bead_width_mm);
+  const std::size_t p1 = 3, p2 = 4;  // flat indices: the bead's two points, then P0, P1, P2
+  const Vec3 up{0, 0, 1};
+  const toolpath::Path& path = plan.toolpaths[0].paths[1];
+  // As planned: P1 and P2 each clear; the torch at P1 half way to the normal strikes the bead.
+  EXPECT_FALSE(deposit.strikes(path.points[1].position_mm, path.points[1].tool_axis, p1, 0.0));
+  EXPECT_FALSE(deposit.strikes(path.points[2].position_mm, up, p2, 0.0));
+  EXPECT_TRUE(deposit.strikes(path.points[1].position_mm, mid, p2, 0.0));
+  PlanOptions o;
+  ease_tilts(plan, m, o, deposit, p.bead_width_mm, 0.0);
+  EXPECT_GE(plan.tilts_eased, 1u);
+  // Every axis on the way from P1's (eased) axis to the normal, at P1 and along the move: clear.
+  const toolpath::Path& eased = plan.toolpaths[0].paths[1];
+  const Vec3 a = core::normalized(eased.points[1].tool_axis), t1 = eased.points[1].position_mm, t2 = eased.points[2].position_mm;
+  EXPECT_LT(std::acos(std::clamp(core::dot(a, up), -1.0, 1.0)), 60.0 * kDeg - 1e-6);
+  for (int k = 0; k <= 60; ++k) {
+    const double w = k / 60.0;
+    const Vec3 axis = core::normalized(a * (1.0 - w) + up * w);
+    EXPECT_FALSE(deposit.strikes(t1, axis, p2, 0.0)) << "in place " << w;
+    EXPECT_FALSE(deposit.strikes(t1 + (t2 - t1) * w, axis, p2, 0.0)) << "on the way " << w;
+  }
+}
+
+}  // namespace
+}  // namespace polyaxis::planner::detail
