@@ -82,6 +82,10 @@ bool clear_move(const machine::BuildModel& model, const verify::DepositCheck& de
 
 }  // namespace
 
+double nozzle_radius_mm(const machine::NozzleModel& nozzle) {
+  return std::max(nozzle.cylinder_radius_mm, nozzle.cone_height_mm * std::tan(nozzle.tip_half_angle_deg * kPi / 180.0));
+}
+
 bool others_above(const Plan& plan, std::size_t layer, double reach_mm) {
   const slicing::Layer& l = plan.layers.layers[layer];
   double u0 = INFINITY, v0 = INFINITY, u1 = -INFINITY, v1 = -INFINITY;
@@ -120,8 +124,7 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
   const double reach = reach_rad(machine), margin = kDepositMarginBeads * bead_mm;
   const double tilted_cos = std::cos(kTiltedDeg * kPi / 180.0);
   const std::uint32_t root = plan.placed_regions.empty() ? 0 : plan.placed_regions.front().id;
-  const machine::NozzleModel& nozzle = plan.build_model.nozzle;
-  const double head_reach = std::max(nozzle.cylinder_radius_mm, nozzle.cone_height_mm * std::tan(nozzle.tip_half_angle_deg * kPi / 180.0));
+  const double head_reach = nozzle_radius_mm(plan.build_model.nozzle);
   // The deposit a point is checked against is the tips laid before it, which no easing moves, and
   // a move into a point depends on its layer's point before only: the layers are eased side by
   // side. FIRST: each layer's first point in the flat order.

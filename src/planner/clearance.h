@@ -30,6 +30,9 @@ std::vector<verify::PlannedPoint> planned_points(const Plan& plan);
 void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOptions& options, const verify::DepositCheck& deposit,
                 double bead_mm, double steady_turn_rad_per_mm);
 
+// The nozzle's radius: the wider of the cone's top and the cylinder (mm).
+double nozzle_radius_mm(const machine::NozzleModel& nozzle);
+
 // True when some vertex of a region other than LAYER's own lies above LAYER's plane within REACH_MM
 // of its section (bounding circle): only there can a head along the layer's normal strike deposit.
 bool others_above(const Plan& plan, std::size_t layer, double reach_mm);

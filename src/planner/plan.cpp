@@ -226,9 +226,7 @@ core::Status check_prebuilt(const std::vector<PlanRegion>& regions) {
 
 // Puts the layers (with their toolpaths) in build order (sequence.h) and numbers them in that order.
 void order_layers(Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process) {
-  plan.c_space_radius_mm = std::max(machine.nozzle.cylinder_radius_mm,
-                                    machine.nozzle.cone_height_mm * std::tan(machine.nozzle.tip_half_angle_deg * kPi / 180.0)) +
-                          process.rules.c_space_margin_mm;
+  plan.c_space_radius_mm = detail::nozzle_radius_mm(machine.nozzle) + process.rules.c_space_margin_mm;
   const detail::Sequence seq = detail::sequence_layers(plan.layers.layers, plan.region_of_layer, plan.placed_regions, plan.c_space_radius_mm,
                                                         process.rules.interleave);
   const std::size_t n = seq.order.size();
@@ -275,8 +273,7 @@ void make_program(Plan& plan, const machine::MachineConfig& machine, const proce
   const double reach = detail::reach_rad(machine), margin = detail::kDepositMarginBeads * process.bead_width_mm;
   const double tilted_cos = std::cos(kTiltedDeg * kPi / 180.0);
   const std::uint32_t root = plan.placed_regions.empty() ? 0 : plan.placed_regions.front().id;
-  const machine::NozzleModel& nozzle = plan.build_model.nozzle;
-  const double head_reach = std::max(nozzle.cylinder_radius_mm, nozzle.cone_height_mm * std::tan(nozzle.tip_half_angle_deg * kPi / 180.0));
+  const double head_reach = detail::nozzle_radius_mm(plan.build_model.nozzle);
   auto push = [&](Vec3 tip, Vec3 axis, bool on, std::uint32_t layer, std::string comment) {
     post::ProgramPoint p;
     p.tip_part_mm = tip;
