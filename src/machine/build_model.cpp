@@ -11,19 +11,161 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A circle of the head: centre S mm up the axis from the tip, radius R mm, about the axis.
-struct HeadCircle {
-  double s_mm, r_mm;
+// A solid of the head: the hull of two discs about the nozzle axis, S0 and S1 mm up it from the
+// tip, of radii R0 and R1.
+struct HeadSolid {
+  double s0_mm, r0_mm, s1_mm, r1_mm;
 };
 
-// The surface under a disc centred at (X, Y) of radius R: the plate's top when the disc overlaps
-// the plate's rectangle, the table's top when it overlaps the table, else none (−inf).
-double surface_under(const BuildModel& m, double x, double y, double r) {
-  const SubstratePlate& p = m.substrate;
-  const double dx = std::max({p.x_min_mm - x, 0.0, x - p.x_max_mm}), dy = std::max({p.y_min_mm - y, 0.0, y - p.y_max_mm});
-  if (dx * dx + dy * dy <= r * r) return p.top_z_mm;
+// The head's solids: the cone (from kTipZoneMm up: the tip itself is the tip's clearance), the
+// cylinder, and each head box by the solid it sweeps turning about the axis. At most 2 + boxes.
+constexpr double kTipZoneMm = 1.0;
+
+// A solid placed with its tip at TIP along the unit axis A: centre c(λ) = c0 + a·len·λ and radius
+// r(λ) = r0 + (r1 − r0)·λ for λ in [0, 1]; U, V span the discs' planes.
+struct Frustum {
+  Vec3 c0, a, u, v;
+  double len, r0, r1;
+  Vec3 centre(double l) const { return c0 + a * (len * l); }
+  double radius(double l) const { return r0 + (r1 - r0) * l; }
+};
+
+double comp(Vec3 p, int i) { return i == 0 ? p.x : p.y; }
+
+// Narrows [LO, HI] to where A + B·λ >= 0.
+void keep_where(double a, double b, double& lo, double& hi) {
+  if (std::abs(b) < 1e-15) {
+    if (a < 0.0) lo = 1.0, hi = 0.0;
+    return;
+  }
+  (b > 0.0 ? lo : hi) = b > 0.0 ? std::max(lo, -a / b) : std::min(hi, -a / b);
+}
+
+// The least of a convex F on [LO, HI] (golden section; 60 steps reach 1e-12 of the interval).
+template <class F>
+double convex_min_at(F f, double lo, double hi) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = f(x1), f2 = f(x2);
+  for (int k = 0; k < 60 && hi - lo > 1e-13; ++k) {
+    if (f1 <= f2) {
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = f(x1);
+    } else {
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = f(x2);
+    }
+  }
+  return f1 <= f2 ? x1 : x2;
+}
+
+// The lowest point of the solid F within the vertical plane where coordinate I (0: x, 1: y) is
+// VAL, if its other coordinate lies in [LO, HI]; +inf otherwise. Each disc meets the plane in a
+// chord whose lower end is the disc's lowest point there; over the discs that height is convex
+// (the section of a convex solid), so its least is found by golden section.
+double lowest_on_face(const Frustum& f, int i, double val, double lo, double hi) {
+  const int j = 1 - i;
+  const double gx = comp(f.u, i), gy = comp(f.v, i), gn = std::hypot(gx, gy);
+  const double inf = std::numeric_limits<double>::infinity();
+  if (gn < 1e-9) {  // the discs are parallel to the plane: the one in it, whole
+    const double l = (val - comp(f.c0, i)) / (comp(f.a, i) * f.len);
+    if (!(l >= 0.0 && l <= 1.0)) return inf;
+    const Vec3 c = f.centre(l);
+    return comp(c, j) >= lo && comp(c, j) <= hi ? c.z - f.radius(l) : inf;
+  }
+  // e(λ): the plane's offset from the centre along the discs' own direction of coordinate I.
+  const double e0 = val - comp(f.c0, i), e1 = -comp(f.a, i) * f.len;
+  double l_lo = 0.0, l_hi = 1.0;
+  keep_where(f.r0 * gn - e0, (f.r1 - f.r0) * gn - e1, l_lo, l_hi);
+  keep_where(f.r0 * gn + e0, (f.r1 - f.r0) * gn + e1, l_lo, l_hi);
+  if (l_lo > l_hi) return inf;
+  const double ux = gx / gn, uy = gy / gn;                   // ĝ in the discs' (u, v) plane
+  const double along = ux * f.u.z + uy * f.v.z;              // ĝ·h
+  const double across = -uy * f.u.z + ux * f.v.z;            // ĝ⊥·h
+  auto at = [&](double l, Vec3* point) {
+    const double e = e0 + e1 * l, r = f.radius(l);
+    const double t = -std::copysign(std::sqrt(std::max(0.0, r * r - (e / gn) * (e / gn))), across);
+    const double alpha = (e / gn) * ux - t * uy, beta = (e / gn) * uy + t * ux;
+    if (point != nullptr) *point = f.centre(l) + f.u * alpha + f.v * beta;
+    return f.centre(l).z + (e / gn) * along + t * across;
+  };
+  const double l = convex_min_at([&](double x) { return at(x, nullptr); }, l_lo, l_hi);
+  Vec3 p;
+  const double z = at(l, &p);
+  return comp(p, j) >= lo - 1e-9 && comp(p, j) <= hi + 1e-9 ? z : inf;
+}
+
+// The lowest point of the solid F on the vertical line through (X, Y); +inf where it misses.
+double lowest_on_line(const Frustum& f, double x, double y) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const Vec3 a = f.a;
+  const double dx0 = x - f.c0.x, dy0 = y - f.c0.y;
+  if (std::abs(a.z) < 1e-7) {  // the discs are vertical: the line lies in one of them
+    const double l = (a.x * dx0 + a.y * dy0) / f.len;
+    if (!(l >= 0.0 && l <= 1.0)) return inf;
+    const Vec3 c = f.centre(l);
+    const double h = std::hypot(x - c.x, y - c.y), r = f.radius(l);
+    return h <= r ? c.z - std::sqrt(r * r - h * h) : inf;
+  }
+  // The line meets disc λ's plane at q(λ); d(λ) = q − c(λ) = D0 + D1·λ, inside where |d| <= r(λ).
+  const Vec3 d0{dx0, dy0, -(a.x * dx0 + a.y * dy0) / a.z};
+  const Vec3 d1{-a.x * f.len, -a.y * f.len, f.len * (a.x * a.x + a.y * a.y) / a.z};
+  const double dr = f.r1 - f.r0;
+  const double qa = core::dot(d1, d1) - dr * dr, qb = 2.0 * (core::dot(d0, d1) - f.r0 * dr), qc = core::dot(d0, d0) - f.r0 * f.r0;
+  auto inside = [&](double l) { return (qa * l + qb) * l + qc <= 1e-9 * (1.0 + core::dot(d0, d0) + f.r1 * f.r1 + core::dot(d1, d1)); };
+  auto z_at = [&](double l) { return f.c0.z + a.z * f.len * l + d0.z + d1.z * l; };
+  // The inside is an interval (a convex solid) and the height is linear along it: its least is at
+  // an end, which is 0, 1 or a root.
+  double candidates[4] = {0.0, 1.0, -1.0, -1.0};
+  if (std::abs(qa) > 1e-15) {
+    const double disc = qb * qb - 4.0 * qa * qc;
+    if (disc >= 0.0) {
+      const double s = std::sqrt(disc), q = -0.5 * (qb + std::copysign(s, qb));
+      candidates[2] = q / qa;
+      if (q != 0.0) candidates[3] = qc / q;
+    }
+  } else if (std::abs(qb) > 1e-15) {
+    candidates[2] = -qc / qb;
+  }
+  double best = inf;
+  for (double l : candidates) {
+    l = std::clamp(l, 0.0, 1.0);
+    if (inside(l)) best = std::min(best, z_at(l));
+  }
+  return best;
+}
+
+// The lowest point of the solid F over the plate's rectangle (exact: the solid's lowest point when
+// it lies over the plate, else the least over the rectangle's four sides and four corners, where
+// the lowest point of the solid's part over the rectangle must then lie); +inf where none is over it.
+double lowest_over_plate(const Frustum& f, const SubstratePlate& p) {
+  const double s = std::sqrt(std::max(0.0, 1.0 - f.a.z * f.a.z));
+  const Vec3 down = s > 1e-12 ? (f.a * f.a.z - Vec3{0, 0, 1}) / s : Vec3{};
+  double low = std::numeric_limits<double>::infinity();
+  Vec3 lowest;
+  for (const double l : {0.0, 1.0}) {
+    const Vec3 q = f.centre(l) + down * f.radius(l);
+    if (q.z < low) low = q.z, lowest = q;
+  }
+  if (lowest.x >= p.x_min_mm && lowest.x <= p.x_max_mm && lowest.y >= p.y_min_mm && lowest.y <= p.y_max_mm) return low;
+  double best = std::numeric_limits<double>::infinity();
+  for (const double x : {p.x_min_mm, p.x_max_mm}) best = std::min(best, lowest_on_face(f, 0, x, p.y_min_mm, p.y_max_mm));
+  for (const double y : {p.y_min_mm, p.y_max_mm}) best = std::min(best, lowest_on_face(f, 1, y, p.x_min_mm, p.x_max_mm));
+  for (const double x : {p.x_min_mm, p.x_max_mm}) {
+    for (const double y : {p.y_min_mm, p.y_max_mm}) best = std::min(best, lowest_on_line(f, x, y));
+  }
+  return best;
+}
+
+// The table's top under a disc centred at (X, Y) of radius R when the disc overlaps the table, else
+// none (−inf).
+double table_under(const BuildModel& m, double x, double y, double r) {
   if (std::hypot(x - m.table_centre_mm.x, y - m.table_centre_mm.y) <= m.table_radius_mm + r) return m.table_top_z_mm();
   return -std::numeric_limits<double>::infinity();
+}
+
+// The surface under the point (X, Y): the plate's top over its rectangle, else the table's.
+double surface_under(const BuildModel& m, double x, double y) {
+  const SubstratePlate& p = m.substrate;
+  if (x >= p.x_min_mm && x <= p.x_max_mm && y >= p.y_min_mm && y <= p.y_max_mm) return p.top_z_mm;
+  return table_under(m, x, y, 0.0);
 }
 
 }  // namespace
@@ -103,31 +245,46 @@ bool add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const s
   return true;
 }
 
-double tip_clearance_mm(const BuildModel& m, Vec3 tip) { return tip.z - surface_under(m, tip.x, tip.y, 0.0); }
+double tip_clearance_mm(const BuildModel& m, Vec3 tip) { return tip.z - surface_under(m, tip.x, tip.y); }
 
 double head_clearance_mm(const BuildModel& m, Vec3 tip, Vec3 axis) {
   const Vec3 a = core::normalized(axis);
   const NozzleModel& n = m.nozzle;
-  HeadCircle circles[8];
-  int count = 0;
-  const double cone_top_r = n.cone_height_mm * std::tan(n.tip_half_angle_deg * kPi / 180.0);
-  circles[count++] = {n.cone_height_mm, std::max(cone_top_r, n.cylinder_radius_mm)};
-  circles[count++] = {n.cone_height_mm + n.cylinder_height_mm, n.cylinder_radius_mm};
+  const double tan_half = std::tan(n.tip_half_angle_deg * kPi / 180.0);
+  const double tip_zone = std::min(kTipZoneMm, n.cone_height_mm);
+  HeadSolid solids[2] = {{tip_zone, tip_zone * tan_half, n.cone_height_mm, n.cone_height_mm * tan_half},
+                         {n.cone_height_mm, n.cylinder_radius_mm, n.cone_height_mm + n.cylinder_height_mm, n.cylinder_radius_mm}};
+  // The discs' planes: U and V perpendicular to the axis.
+  const Vec3 helper = std::abs(a.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{1, 0, 0};
+  const Vec3 u = core::normalized(core::cross(a, helper)), v = core::cross(a, u);
+  const double side = std::sqrt(std::max(0.0, 1.0 - a.z * a.z));
+  const SubstratePlate& p = m.substrate;
   double clearance = std::numeric_limits<double>::infinity();
-  auto visit = [&](HeadCircle c) {
-    const Vec3 centre = tip + a * c.s_mm;
-    // The circle's lowest point drops sin(tilt)·r below its centre.
-    const double drop = c.r_mm * std::sqrt(std::max(0.0, 1.0 - a.z * a.z));
-    clearance = std::min(clearance, centre.z - drop - surface_under(m, centre.x, centre.y, c.r_mm));
+  auto visit = [&](HeadSolid h) {
+    if (h.s1_mm <= h.s0_mm) h.s1_mm = h.s0_mm + 1e-6;  // a flat box: its disc
+    const Frustum f{tip + a * h.s0_mm, a, u, v, h.s1_mm - h.s0_mm, h.r0_mm, h.r1_mm};
+    // Against the table: the solid's lowest point, wherever a disc overlaps the table.
+    for (const double l : {0.0, 1.0}) {
+      const Vec3 c = f.centre(l);
+      clearance = std::min(clearance, c.z - f.radius(l) * side - table_under(m, c.x, c.y, f.radius(l)));
+    }
+    // Against the plate: the lowest point of the solid's part over it, where its box meets the plate.
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (const double l : {0.0, 1.0}) {
+      const Vec3 c = f.centre(l);
+      const double r = f.radius(l);
+      x0 = std::min(x0, c.x - r), x1 = std::max(x1, c.x + r), y0 = std::min(y0, c.y - r), y1 = std::max(y1, c.y + r);
+    }
+    if (x1 < p.x_min_mm || x0 > p.x_max_mm || y1 < p.y_min_mm || y0 > p.y_max_mm) return;
+    clearance = std::min(clearance, lowest_over_plate(f, p) - p.top_z_mm);
   };
-  for (int k = 0; k < count; ++k) visit(circles[k]);
+  for (const HeadSolid& h : solids) visit(h);
   for (const HeadBox& b : m.head_boxes) {
     double r = 0.0;
     for (const double x : {b.min_mm[0], b.max_mm[0]}) {
       for (const double y : {b.min_mm[1], b.max_mm[1]}) r = std::max(r, std::hypot(x, y));
     }
-    visit({b.min_mm[2], r});
-    visit({b.max_mm[2], r});
+    visit({b.min_mm[2], r, b.max_mm[2], r});
   }
   return clearance;
 }

@@ -45,13 +45,29 @@ double angle_deg(Vec3 a, Vec3 b) {
   return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
 }
 
+// What stands on the plate: the box of the regions' material within HEIGHT_MM of the plate's top
+// (each triangle's part below that height; the placed frame). The plate lies under it.
+core::Box3 footprint_on_plate(const std::vector<PlanRegion>& regions, double height_mm) {
+  core::Box3 box;
+  for (const PlanRegion& r : regions) {
+    const auto& v = r.mesh.vertices;
+    for (const auto& t : r.mesh.triangles) {
+      for (int e = 0; e < 3; ++e) {
+        const Vec3 p = v[t[e]], q = v[t[(e + 1) % 3]];
+        if (p.z <= height_mm) box.add(p);
+        if ((p.z < height_mm) != (q.z < height_mm)) box.add(p + (q - p) * ((height_mm - p.z) / (q.z - p.z)));
+      }
+    }
+  }
+  return box;
+}
+
 // After placement: every region above the plate, every direction within reach; the build model.
 core::Status place_checks(const std::vector<PlanRegion>& regions, const machine::MachineConfig& machine,
                           const process::ProcessConfig& process, Plan& plan) {
-  core::Box3 box;
   for (const PlanRegion& r : regions) {
     double low = INFINITY;
-    for (const Vec3& v : r.mesh.vertices) low = std::min(low, v.z), box.add(v);
+    for (const Vec3& v : r.mesh.vertices) low = std::min(low, v.z);
     if (low < -kBelowPlateLayerShare * process.layer_min_mm) {
       return core::make_error(core::ErrorCode::kInfeasible,
                               fmt::format("region {} (build direction {:.3f}, {:.3f}, {:.3f}) reaches {:.2f} mm below the substrate's top "
@@ -60,6 +76,7 @@ core::Status place_checks(const std::vector<PlanRegion>& regions, const machine:
                                           r.id, r.direction.x, r.direction.y, r.direction.z, -low));
     }
   }
+  const core::Box3 box = footprint_on_plate(regions, process.layer_max_mm);
   plan.build_model = machine::make_build_model(machine, process, box.min.x, box.min.y, box.max.x, box.max.y);
   std::vector<PlanRegion> deposited;
   for (const PlanRegion& r : regions) {

@@ -596,7 +596,20 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
   PlanPartResult out;
   const auto t_choose = Clock::now();
   auto chosen = choose(part, machine, process, options, out.choice);
-  if (!chosen) return chosen.error();
+  if (!chosen) {
+    if (options.plan.layers != LayerChoice::kAuto) return chosen.error();
+    // Layers auto chose that cannot be planned (no torch axis keeps the head off the plate along
+    // tilted layers, say): the whole choice again on planar layers, when that reads back clean.
+    PlanPartOptions planar = options;
+    planar.plan.layers = LayerChoice::kPlanar;
+    auto alt = plan_part_as_asked(part, machine, process, planar);
+    if (!alt || alt.value().check.collisions > 0 || !alt.value().check.mid_air_regions.empty()) return chosen.error();
+    const std::string why = fmt::format("the layers auto chose cannot be planned: {}", chosen.error().message);
+    alt.value().choice += fmt::format("; planar layers: {}", why);
+    for (PlanRegion& r : alt.value().plan.placed_regions) r.layers_rule = kLayersPlanar, r.layers_why = "auto layers were refused: " + why;
+    alt.value().warnings.push_back(fmt::format("planar layers were chosen because {}", why));
+    return alt;
+  }
   out.choose_s = since(t_choose);
   out.plan = std::move(chosen.value().plan);
   out.axis = std::move(chosen.value().axis);

@@ -227,12 +227,14 @@ Decomposed plan_decomposed(const std::string& name, const std::string& extra, co
 }
 
 TEST(PlanDecomposed, FiveWallsWhoseOnlyDecompositionCollidesExitFourNamingThePlace) {
-  // With the default head (a cylinder of radius 25 mm 20 mm above the tip) the walls' lowest
-  // corners, 5 mm above the plate, need the torch tilted 42° up to keep the cylinder off the plate,
-  // and so tilted its rim dips into the cylinder region higher up: no order or tilt removes that.
+  // On a plate reaching under the walls (120 mm square) the default head (a cylinder of radius
+  // 25 mm 20 mm above the tip) cannot lay the walls' lowest corners, 5 mm above it: tilted up
+  // enough to keep its rim off the plate, the rim dips into the cylinder region higher up, and no
+  // order or tilt removes that.
   const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/cyl_walls5.stl";
+  const std::string wide = " --set process.substrate.size_x_mm=120 --set process.substrate.size_y_mm=120";
   TempDir dir;
-  const auto refused = run_cli("plan '" + part + "' --strategy decompose --no-html -o '" + dir.path().string() + "'");
+  const auto refused = run_cli("plan '" + part + "' --strategy decompose --no-html -o '" + dir.path().string() + "'" + wide);
   EXPECT_EQ(refused.exit_code, 4) << refused.err;
   for (const char* word : {"strikes", "line ", "(layer ", "region ", "--allow-collisions"}) {
     EXPECT_NE(refused.err.find(word), std::string::npos) << word << ": " << refused.err;
@@ -240,14 +242,14 @@ TEST(PlanDecomposed, FiveWallsWhoseOnlyDecompositionCollidesExitFourNamingThePla
   EXPECT_FALSE(std::filesystem::exists(dir / "cyl_walls5.ngc"));
   EXPECT_FALSE(std::filesystem::exists(dir / "plan.json"));
   // Asked for, the plan is written with its collisions listed.
-  const auto kept = run_cli("plan '" + part + "' --strategy decompose --allow-collisions --no-html -o '" + dir.path().string() + "'");
+  const auto kept = run_cli("plan '" + part + "' --strategy decompose --allow-collisions --no-html -o '" + dir.path().string() + "'" + wide);
   ASSERT_EQ(kept.exit_code, 0) << kept.err;
   const auto report = read_json(dir / "report.json");
   EXPECT_GT(report["collisions"].get<int>(), 0);
   EXPECT_FALSE(read_json(dir / "plan.json")["collisions"].empty());
   // By default the single direction, which reads back clean, is taken instead, and it says why.
   TempDir auto_dir;
-  const auto chosen = run_cli("plan '" + part + "' --no-html -o '" + auto_dir.path().string() + "'");
+  const auto chosen = run_cli("plan '" + part + "' --no-html -o '" + auto_dir.path().string() + "'" + wide);
   ASSERT_EQ(chosen.exit_code, 0) << chosen.err;
   const auto auto_report = read_json(auto_dir / "report.json");
   EXPECT_EQ(auto_report["collisions"].get<int>(), 0);
@@ -255,9 +257,28 @@ TEST(PlanDecomposed, FiveWallsWhoseOnlyDecompositionCollidesExitFourNamingThePla
   EXPECT_NE(chosen.err.find("strikes"), std::string::npos) << chosen.err;
 }
 
+TEST(PlanDecomposed, FiveWallsOnTheDefaultPlateDecomposeSupportFreeWithNoCollision) {
+  // The default plate lies under what stands on it (the cylinder's base, grown by its margin), so
+  // the head tilted over the walls' lowest corners dips past the plate's edge towards the table,
+  // 10 mm lower, where it clears: with defaults the walls are laid radially, with no collision.
+  const std::string part = std::string(POLYAXIS_PARTS_DIR) + "/cyl_walls5.stl";
+  TempDir dir;
+  const auto planned = run_cli("plan '" + part + "' --no-html -o '" + dir.path().string() + "'");
+  ASSERT_EQ(planned.exit_code, 0) << planned.err;
+  const auto report = read_json(dir / "report.json");
+  EXPECT_EQ(report["strategy"], "decompose");
+  EXPECT_EQ(report["regions"].get<int>(), 6);
+  EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+  EXPECT_EQ(report["collisions"].get<int>(), 0);
+  // The plate: the cylinder's base (r 15) grown by the 10 mm margin, not the walls' shadow (r 41).
+  const auto& sub = report["substrate"];
+  EXPECT_NEAR(sub["x_mm"][1].get<double>() - sub["x_mm"][0].get<double>(), 50.0, 0.1);
+  EXPECT_NEAR(sub["y_mm"][1].get<double>() - sub["y_mm"][0].get<double>(), 50.0, 0.1);
+}
+
 TEST(PlanDecomposed, FiveWallsBuildRadiallyAfterTheCylinder) {
   TempDir dir;
-  const Decomposed d = plan_decomposed("cyl_walls5", "--allow-collisions", dir);
+  const Decomposed d = plan_decomposed("cyl_walls5", "", dir);
   ASSERT_FALSE(d.report.is_null());
   EXPECT_EQ(d.report["regions"].get<int>(), 6);
   EXPECT_TRUE(d.report["support_free"].get<bool>()) << d.report["unsupported_area_mm2"];

@@ -218,10 +218,12 @@ TEST(PlanLayers, AutoKeepsPlanarLayersWhereTheyLeaveNoOverhang) {
 TEST(PlanLayers, AutoFallsBackToPlanarWhereTheTiltedHeadWouldStrikeThePlate) {
   TempDir dir;
   const auto stl = dir / "bar.stl";
-  write_file(stl, binary_stl(bent_bar(40, 8, 110, 48, 16)));
+  // A bar bent through 170°: its end comes back down towards the plate, and along the tilted layers
+  // there no torch axis within 60° of the layer's normal keeps the head off the plate and the table.
+  write_file(stl, binary_stl(bent_bar(40, 8, 170, 48, 16)));
   const auto tilted = run_cli("plan '" + stl.string() + "' --strategy single --layers tilted --no-html -o '" + (dir / "t").string() + "'");
-  EXPECT_EQ(tilted.exit_code, 4) << tilted.err;
-  EXPECT_NE(tilted.err.find("the plate or table"), std::string::npos) << tilted.err;
+  EXPECT_EQ(tilted.exit_code, 5) << tilted.err;
+  EXPECT_NE(tilted.err.find("clear of the plate and the table"), std::string::npos) << tilted.err;
   const auto r = run_cli("plan '" + stl.string() + "' --no-html -o '" + dir.path().string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("planar layers were chosen because"), std::string::npos) << r.err;
@@ -230,6 +232,15 @@ TEST(PlanLayers, AutoFallsBackToPlanarWhereTheTiltedHeadWouldStrikeThePlate) {
     EXPECT_EQ(region["layers"]["rule"], "layers.planar");
   }
   check_readback(dir.path(), "bar");
+  // Bent through 110°, the tilted layers plan and read back clean (the plate under the bar's foot,
+  // the head clear of it past its edge).
+  TempDir own;
+  const auto stl_own = own / "bar.stl";
+  write_file(stl_own, binary_stl(bent_bar(40, 8, 110, 48, 16)));
+  const auto on_default = run_cli("plan '" + stl_own.string() + "' --strategy single --layers tilted --no-html -o '" + own.path().string() + "'");
+  ASSERT_EQ(on_default.exit_code, 0) << on_default.err;
+  EXPECT_EQ(read_json(own / "report.json")["collisions"].get<int>(), 0);
+  check_readback(own.path(), "bar");
 }
 
 TEST(PlanLayers, TiltedLayersNeedRotaryAxesAndTheTorchTurning) {

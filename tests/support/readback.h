@@ -40,7 +40,10 @@ struct ReadBack {
 // - head: the nozzle is a cone (half-angle θ, height z1) under a cylinder (radius R, height H);
 //   every circle bounding them (at z1 with the larger radius, at z1 + H with R) has its lowest
 //   point at centre.z − r·sin(tilt); that point, and the tip, must not be below the plate's top
-//   where the circle's disc overlaps the plate, nor below the table's top elsewhere.
+//   where the circle's disc overlaps the plate, nor below the table's top elsewhere. Where that
+//   fails, the head's lines every degree about the axis decide instead (the cone's side from 1 mm
+//   above the tip, the cylinder's bottom and side): no part of a line over the plate's rectangle
+//   below its top, no line below the table's top.
 // - grounding: a deposit sample is grounded when it is over the plate within REACH_MM of its top,
 //   or when a deposit sample of an earlier layer ("(layer N" comments) lies within REACH_MM.
 // - stall: a block with the process on whose tip path over its duration (F as LinuxCNC reads it
@@ -64,6 +67,38 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
   auto surface = [&](double x, double y, double r) {
     const double dx = std::max({plate.x0 - x, 0.0, x - plate.x1}), dy = std::max({plate.y0 - y, 0.0, y - plate.y1});
     return dx * dx + dy * dy <= r * r ? plate.top : plate.table_top;
+  };
+  // Where a circle's disc overlaps the plate only in part, its part beyond the plate may be lower
+  // than the plate's top: the head is taken by its lines instead, every degree about the axis (the
+  // cone's side from the tip, the cylinder's bottom from the cone out, the cylinder's side), each
+  // line's part over the plate against the plate's top and all of it against the table's.
+  auto head_low_by_lines = [&](core::Vec3 t, core::Vec3 a) {
+    const core::Vec3 u = core::normalized(core::cross(a, std::abs(a.z) < 0.9 ? core::Vec3{0, 0, 1} : core::Vec3{1, 0, 0}));
+    const core::Vec3 v = core::cross(a, u);
+    const double rc = z1 * std::tan(m.nozzle.tip_half_angle_deg * kPi / 180.0);
+    double low = INFINITY;
+    auto line = [&](core::Vec3 p, core::Vec3 q) {
+      low = std::min(low, std::min(p.z, q.z) - plate.table_top);
+      // The part of P→Q over the plate's rectangle (Liang–Barsky), its lower end against the top.
+      double t0 = 0.0, t1 = 1.0;
+      const double d[2] = {q.x - p.x, q.y - p.y}, lo[2] = {plate.x0 - p.x, plate.y0 - p.y}, hi[2] = {plate.x1 - p.x, plate.y1 - p.y};
+      for (int i = 0; i < 2 && t0 <= t1; ++i) {
+        if (std::abs(d[i]) < 1e-12) {
+          if (lo[i] > 0.0 || hi[i] < 0.0) t1 = -1.0;
+          continue;
+        }
+        const double ta = lo[i] / d[i], tb = hi[i] / d[i];
+        t0 = std::max(t0, std::min(ta, tb)), t1 = std::min(t1, std::max(ta, tb));
+      }
+      if (t0 <= t1) low = std::min(low, std::min(p.z + (q.z - p.z) * t0, p.z + (q.z - p.z) * t1) - plate.top);
+    };
+    for (int deg = 0; deg < 360; ++deg) {
+      const core::Vec3 w = u * std::cos(deg * kPi / 180.0) + v * std::sin(deg * kPi / 180.0);
+      line(t + a * 1.0 + w * (rc / z1), t + a * z1 + w * rc);
+      line(t + a * z1 + w * rc, t + a * z1 + w * R);
+      line(t + a * z1 + w * R, t + a * (z1 + H) + w * R);
+    }
+    return low;
   };
   std::vector<core::Vec3> all_deposit;  // every deposit sample so far (HEAD_VS_DEPOSIT)
   std::map<std::array<long, 3>, std::vector<core::Vec3>> earlier;  // deposit of finished layers, 1-reach cells
@@ -209,6 +244,7 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
         const core::Vec3 c = t + a * s;
         low = std::min(low, c.z - r * side - surface(c.x, c.y, r));
       }
+      if (low < -1e-3) low = std::min(t.z - surface(t.x, t.y, 0.0), head_low_by_lines(t, a));
       if (low < -1e-3) {
         ++rb.head_below;
         rb.worst_head_mm = std::max(rb.worst_head_mm, -low);

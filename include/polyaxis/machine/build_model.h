@@ -3,10 +3,11 @@
 // placed part: +Z is the table's normal, the substrate's top is Z = 0 and the part stands on it.
 // The material deposited so far is the program itself (verify/verify.h keeps it while reading).
 //
-// Clearance is conservative: the head's solids are bounded by circles about the nozzle axis
-// (the cone and the cylinder exactly, since their lowest points lie on their end circles; each
-// head box by the solid it sweeps turning about the axis), and a circle counts against the
-// substrate whenever its bounding disc overlaps the plate's rectangle, else against the table.
+// Each solid of the head is the hull of two discs about the nozzle axis: the cone from 1 mm above
+// the tip (below that it is the tip's own clearance), the cylinder, and each head box by the solid
+// it sweeps turning about the axis. Against the plate the clearance is exact (the lowest point of
+// a solid's part over the plate's rectangle); against the table it is conservative (a solid's
+// lowest point, wherever one of its discs overlaps the table).
 #pragma once
 
 #include <array>
@@ -55,9 +56,9 @@ struct BuildModel {
   double table_top_z_mm() const { return substrate.top_z_mm - substrate.thickness_mm; }
 };
 
-// The model for MACHINE and PROCESS with a part whose footprint (table frame, after placement)
-// spans [X0, X1] × [Y0, Y1]: the plate is process.substrate's size centred on the footprint, or the
-// footprint grown by its margin.
+// The model for MACHINE and PROCESS with a part whose footprint on the plate (table frame, after
+// placement: what stands on the plate, not the part's whole shadow) spans [X0, X1] × [Y0, Y1]: the
+// plate is process.substrate's size centred on the footprint, or the footprint grown by its margin.
 BuildModel make_build_model(const MachineConfig& machine, const process::ProcessConfig& process, double x0_mm, double y0_mm, double x1_mm,
                             double y1_mm);
 
@@ -75,9 +76,10 @@ inline constexpr std::size_t kMaxPrebuiltSamples = 4'000'000;  // 192 MB; the im
 
 // The head's clearance with its tip at TIP and its axis (tip → up the nozzle, any length > 0)
 // along AXIS, both in the table frame: the least height of any head point above the surface under
-// it (substrate top over the plate, table top elsewhere), the tip itself left out. Negative: the
-// head enters the plate or the table by that much. +inf when nothing is under the head.
-// Cost: constant (a few circles per head part).
+// it (substrate top over the plate, table top elsewhere), the first millimetre above the tip left
+// out. Negative: the head enters the plate or the table by that much. +inf when nothing is under
+// the head. Cost: constant; a few discs per solid, and where a solid crosses the plate's edge its
+// four sides (golden section, 60 steps) and four corners.
 double head_clearance_mm(const BuildModel& model, Vec3 tip, Vec3 axis);
 
 // The tip's own height above the surface under it (negative: below the substrate or table top).

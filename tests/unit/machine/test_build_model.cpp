@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 #include "polyaxis/machine/build_model.h"
 #include "polyaxis/machine/machine.h"
@@ -21,6 +22,7 @@ struct Fixture {
   MachineConfig m = parse_machine(default_machine_json(), "m").value();
   ProcessConfig p = parse_process(default_process_json(), "p").value();
   BuildModel model = make_build_model(m, p, -20, -30, 20, 30);
+  BuildModel wide = make_build_model(m, p, -200, -200, 200, 200);  // a plate under every head below
 };
 
 TEST(BuildModel, ThePlateIsTheFootprintGrownByItsMargin) {
@@ -42,15 +44,16 @@ TEST(BuildModel, ClearanceOfTheConeAndCylinderAtEveryTilt) {
   for (double deg = 0.0; deg <= 90.0; deg += 7.5) {
     const double t = deg * kPi / 180.0;
     const Vec3 axis{std::sin(t), 0.0, std::cos(t)};
-    // Lowest head point below the tip: the cylinder's bottom rim (r 25 at 20 mm) or its top rim
-    // (at 170 mm), or nothing when upright.
-    const double rim = std::min({20.0 * std::cos(t) - 25.0 * std::sin(t), 170.0 * std::cos(t) - 25.0 * std::sin(t), 20.0 * std::cos(t)});
-    EXPECT_NEAR(head_clearance_mm(f.model, {0, 0, 3}, axis), 3.0 + rim, 1e-9) << deg;
+    // Lowest head point below the tip: the cone's end 1 mm up (r tan 30°: the millimetre below is
+    // the tip's own), the cylinder's bottom rim (r 25 at 20 mm) or its top rim (at 170 mm).
+    const double cone = std::cos(t) - std::tan(kPi / 6.0) * std::sin(t);
+    const double rim = std::min({20.0 * std::cos(t) - 25.0 * std::sin(t), 170.0 * std::cos(t) - 25.0 * std::sin(t), cone});
+    EXPECT_NEAR(head_clearance_mm(f.wide, {0, 0, 3}, axis), 3.0 + rim, 1e-9) << deg;
   }
-  // Upright, the head is 20 mm above the tip; about 38.7° tilt the rim reaches the tip's height.
-  EXPECT_NEAR(head_clearance_mm(f.model, {0, 0, 0}, {0, 0, 1}), 20.0, 1e-9);
+  // Upright, the cone 1 mm up is the lowest; about 38.7° tilt the rim reaches the tip's height.
+  EXPECT_NEAR(head_clearance_mm(f.wide, {0, 0, 0}, {0, 0, 1}), 1.0, 1e-9);
   const double t = std::atan(20.0 / 25.0);
-  EXPECT_NEAR(head_clearance_mm(f.model, {0, 0, 0}, {std::sin(t), 0, std::cos(t)}), 0.0, 1e-9);
+  EXPECT_NEAR(head_clearance_mm(f.wide, {0, 0, 0}, {std::sin(t), 0, std::cos(t)}), 0.0, 1e-9);
 }
 
 TEST(BuildModel, BeyondThePlateTheTableCounts) {
@@ -65,17 +68,88 @@ TEST(BuildModel, BeyondThePlateTheTableCounts) {
   EXPECT_TRUE(std::isinf(head_clearance_mm(f.model, {1000, 0, -50}, {0, 0, 1})));
 }
 
+// The lowest point of the head's solids over the plate's rectangle grown by GROW_MM, from points
+// filling them (every point sampled is a point of the head); SPACING: a bound on the distance from
+// any head point to the nearest sample.
+double sampled_over_plate(const BuildModel& m, Vec3 tip, Vec3 axis, double grow_mm, double* spacing) {
+  const Vec3 a = core::normalized(axis);
+  const Vec3 u = core::normalized(core::cross(a, std::abs(a.z) < 0.9 ? Vec3{0, 0, 1} : Vec3{1, 0, 0})), v = core::cross(a, u);
+  const SubstratePlate& p = m.substrate;
+  const double tan30 = std::tan(kPi / 6.0);
+  struct Solid {
+    double s0, r0, s1, r1;
+  };
+  double low = INFINITY;
+  *spacing = 0.0;
+  for (const Solid& s : {Solid{1.0, tan30, 20.0, 20.0 * tan30}, Solid{20.0, 25.0, 170.0, 25.0}}) {
+    const int nl = 80, nr = 16, nphi = 240;
+    *spacing = std::max({*spacing, (s.s1 - s.s0) / nl, s.r1 / nr, 2.0 * kPi * s.r1 / nphi});
+    for (int i = 0; i <= nl; ++i) {
+      const double l = static_cast<double>(i) / nl, r = s.r0 + (s.r1 - s.r0) * l;
+      const Vec3 c = tip + a * (s.s0 + (s.s1 - s.s0) * l);
+      for (int j = 0; j <= nr; ++j) {
+        for (int k = 0; k < (j == 0 ? 1 : nphi); ++k) {
+          const double phi = 2.0 * kPi * k / nphi, rho = r * j / nr;
+          const Vec3 q = c + u * (rho * std::cos(phi)) + v * (rho * std::sin(phi));
+          if (q.x >= p.x_min_mm - grow_mm && q.x <= p.x_max_mm + grow_mm && q.y >= p.y_min_mm - grow_mm && q.y <= p.y_max_mm + grow_mm) {
+            low = std::min(low, q.z);
+          }
+        }
+      }
+    }
+  }
+  return low - p.top_z_mm;
+}
+
+TEST(BuildModel, OverThePlatesEdgeOnlyTheHeadsPartOverThePlateCounts) {
+  // The plate's rectangle [-30, 30] × [-40, 40], no table under the head: the clearance is the
+  // lowest point of the head's part over the plate, exactly. Against points filling the head, at
+  // tips and axes all about the plate's edges and corners: no head point over the plate is lower
+  // than the clearance, and some point within the spacing of the plate is within it of the clearance.
+  Fixture f;
+  f.model.table_centre_mm = {1e9, 0, 0};
+  std::uint64_t seed = 12345;
+  auto uniform = [&](double lo, double hi) {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(seed >> 11) / 9007199254740992.0;
+  };
+  int straddling = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    const Vec3 tip{uniform(-60, 60), uniform(-70, 70), uniform(-5, 30)};
+    const double tilt = uniform(0, 100) * kPi / 180.0, azimuth = uniform(0, 2 * kPi);
+    const Vec3 axis{std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth), std::cos(tilt)};
+    double spacing = 0.0;
+    const double sampled = sampled_over_plate(f.model, tip, axis, 0.0, &spacing);
+    const double near = sampled_over_plate(f.model, tip, axis, spacing, &spacing);
+    const double exact = head_clearance_mm(f.model, tip, axis);
+    EXPECT_LE(exact, sampled + 1e-9) << trial << " tip " << tip.x << " " << tip.y << " " << tip.z;
+    if (std::isinf(exact)) {
+      EXPECT_TRUE(std::isinf(sampled)) << trial;
+      continue;
+    }
+    EXPECT_GE(exact, near - spacing) << trial << " tip " << tip.x << " " << tip.y << " " << tip.z;
+    straddling += std::abs(tip.x) > 5 || std::abs(tip.y) > 15;
+  }
+  EXPECT_GT(straddling, 30);
+  // A head tilted away over the plate's edge: its rim dips 9.6 mm below the tip beyond the edge,
+  // over the table, while its part over the plate stays above the tip's height less the cone's.
+  Fixture g;
+  const double t = 60.0 * kPi / 180.0;
+  const double over_table = head_clearance_mm(g.model, {29, 0, 2}, {std::sin(t), 0, std::cos(t)});
+  EXPECT_NEAR(over_table, 2.0 + 20.0 * std::cos(t) - 25.0 * std::sin(t) + 10.0, 1e-9);  // the table's top is −10
+}
+
 TEST(BuildModel, HeadBoxesSweptAboutTheAxis) {
   Fixture f;
   // A feeder box 40 mm to the side, from 30 to 60 mm up the nozzle.
   HeadBox box;
   box.min_mm[0] = 30, box.max_mm[0] = 40, box.min_mm[1] = -5, box.max_mm[1] = 5, box.min_mm[2] = 30, box.max_mm[2] = 60;
-  f.model.head_boxes.push_back(box);
+  f.wide.head_boxes.push_back(box);
   const double r = std::hypot(40.0, 5.0);
   const double t = 45.0 * kPi / 180.0;
   const Vec3 axis{std::sin(t), 0, std::cos(t)};
   const double expected = std::min({20.0 * std::cos(t) - 25.0 * std::sin(t), 30.0 * std::cos(t) - r * std::sin(t)});
-  EXPECT_NEAR(head_clearance_mm(f.model, {0, 0, 50}, axis), 50.0 + expected, 1e-9);
+  EXPECT_NEAR(head_clearance_mm(f.wide, {0, 0, 50}, axis), 50.0 + expected, 1e-9);
 }
 
 TEST(BuildModel, MachineFileKeys) {

@@ -54,21 +54,24 @@ TEST(Reach, ARegionLeaningFurtherThanTheProcessDepositsIsRefusedNamingTheKey) {
 }
 
 TEST(Reach, AMoveWhoseEndsClearThePlateCanStillCrossItsEdge) {
-  // The robot cell's slim torch (a circle of 12 mm at 40 mm up the axis) pointing out over the
-  // plate's edge 5.45 mm above it: horizontal, that circle just misses the plate (the table is
-  // 10 mm lower); tilted up 10 degrees it clears the plate; half way it swings over the plate's
-  // edge while still low: the move between two clear poses is not clear (cyl_walls5's wall roots).
+  // The robot cell's slim torch (a cone of 15° half-angle, 40 mm long, under a 12 mm cylinder) level
+  // 8.5 mm over the plate, 28 mm in from two of its edges by a corner. Pointing out over one edge,
+  // the cone there is 28·tan 15° = 7.5 mm wide, 1 mm above the plate, and the rest hangs over the
+  // table 10 mm lower: clear. Turned about the tip to the other edge, the same. Half way it points
+  // at the corner, 39.6 mm away, where the cone is 10.6 mm wide: 2.1 mm into the plate. The move
+  // between two clear poses is not clear.
   machine::BuildModel model;
   model.nozzle = test::example_machine("robot_abb_positioner").nozzle;
   model.substrate = {-50.0, -50.0, 50.0, 50.0, 0.0, 10.0};
-  const Vec3 tip{0.0, -50.0 - 12.0 - 0.1 + 40.0, 5.45};
-  const Vec3 level{0.0, -1.0, 0.0}, up10{0.0, -std::cos(10.0 * kDeg), std::sin(10.0 * kDeg)};
-  EXPECT_GT(machine::head_clearance_mm(model, tip, level), 0.0);
-  EXPECT_GT(machine::head_clearance_mm(model, tip, up10), 0.0);
-  EXPECT_FALSE(move_clear(model, 0.0, tip, up10, tip, level));
-  EXPECT_TRUE(move_clear(model, 0.0, tip, up10, tip, up10));
+  const Vec3 tip{-22.0, -22.0, 8.5};
+  const Vec3 out_y{0.0, -1.0, 0.0}, out_x{-1.0, 0.0, 0.0}, corner = core::normalized(Vec3{-1.0, -1.0, 0.0});
+  EXPECT_NEAR(machine::head_clearance_mm(model, tip, out_y), 8.5 - 28.0 * std::tan(15.0 * kDeg), 1e-6);
+  EXPECT_NEAR(machine::head_clearance_mm(model, tip, out_x), 8.5 - 28.0 * std::tan(15.0 * kDeg), 1e-6);
+  EXPECT_NEAR(machine::head_clearance_mm(model, tip, corner), 8.5 - 28.0 * std::sqrt(2.0) * std::tan(15.0 * kDeg), 1e-6);
+  EXPECT_FALSE(move_clear(model, 0.0, tip, out_y, tip, out_x));
+  EXPECT_TRUE(move_clear(model, 0.0, tip, out_y, tip, out_y));
   // Moving up while it turns, the head stays clear.
-  EXPECT_TRUE(move_clear(model, 0.0, tip, up10, tip + Vec3{0.0, 0.0, 40.0}, level));
+  EXPECT_TRUE(move_clear(model, 0.0, tip, out_y, tip + Vec3{0.0, 0.0, 40.0}, out_x));
 }
 
 }  // namespace
