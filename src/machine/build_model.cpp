@@ -41,28 +41,42 @@ void keep_where(double a, double b, double& lo, double& hi) {
   (b > 0.0 ? lo : hi) = b > 0.0 ? std::max(lo, -a / b) : std::min(hi, -a / b);
 }
 
-// The least of a convex F on [LO, HI] (golden section; 60 steps reach 1e-12 of the interval).
-template <class F>
-double convex_min_at(F f, double lo, double hi) {
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = f(x1), f2 = f(x2);
-  for (int k = 0; k < 60 && hi - lo > 1e-13; ++k) {
-    if (f1 <= f2) {
-      hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = f(x1);
-    } else {
-      lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = f(x2);
+// The least of G(λ) = A0 + A1·λ − K·√(Q2·λ² + Q1·λ + Q0) on [LO, HI] (G convex, K >= 0), at the
+// ends or where G' = 0: 2·A1·√Q = K·(2·Q2·λ + Q1), squared a quadratic in λ.
+double convex_min_at(double a0, double a1, double k, double q2, double q1, double q0, double lo, double hi) {
+  auto g = [&](double l) { return a0 + a1 * l - k * std::sqrt(std::max(0.0, (q2 * l + q1) * l + q0)); };
+  double best_l = lo, best = g(lo);
+  auto consider = [&](double l) {
+    if (!(l > lo && l < hi)) return;
+    const double v = g(l);
+    if (v < best) best = v, best_l = l;
+  };
+  if (hi == lo) return best_l;
+  if (k > 0.0) {
+    const double c2 = 4.0 * (a1 * a1 * q2 - k * k * q2 * q2), c1 = 4.0 * (a1 * a1 * q1 - k * k * q1 * q2), c0 = 4.0 * a1 * a1 * q0 - k * k * q1 * q1;
+    const double scale = std::abs(c2) + std::abs(c1) + std::abs(c0);
+    if (std::abs(c2) > 1e-12 * scale) {
+      const double disc = c1 * c1 - 4.0 * c2 * c0;
+      if (disc >= 0.0) {
+        const double sq = std::sqrt(disc), q = -0.5 * (c1 + std::copysign(sq, c1));
+        consider(q / c2);
+        if (q != 0.0) consider(c0 / q);
+      }
+    } else if (std::abs(c1) > 1e-12 * scale) {
+      consider(-c0 / c1);
     }
   }
-  return f1 <= f2 ? x1 : x2;
+  if (g(hi) < best) best_l = hi;
+  return best_l;
 }
 
 // The lowest point of the solid F within the vertical plane where coordinate I (0: x, 1: y) is
 // VAL, if its other coordinate lies in [LO, HI]; +inf otherwise. Each disc meets the plane in a
 // chord whose lower end is the disc's lowest point there; over the discs that height is convex
-// (the section of a convex solid), so its least is found by golden section.
+// (the section of a convex solid) and of the form of convex_min_at.
 double lowest_on_face(const Frustum& f, int i, double val, double lo, double hi) {
   const int j = 1 - i;
-  const double gx = comp(f.u, i), gy = comp(f.v, i), gn = std::hypot(gx, gy);
+  const double gx = comp(f.u, i), gy = comp(f.v, i), gn = std::sqrt(gx * gx + gy * gy);
   const double inf = std::numeric_limits<double>::infinity();
   if (gn < 1e-9) {  // the discs are parallel to the plane: the one in it, whole
     const double l = (val - comp(f.c0, i)) / (comp(f.a, i) * f.len);
@@ -76,20 +90,18 @@ double lowest_on_face(const Frustum& f, int i, double val, double lo, double hi)
   keep_where(f.r0 * gn - e0, (f.r1 - f.r0) * gn - e1, l_lo, l_hi);
   keep_where(f.r0 * gn + e0, (f.r1 - f.r0) * gn + e1, l_lo, l_hi);
   if (l_lo > l_hi) return inf;
-  const double ux = gx / gn, uy = gy / gn;                   // ĝ in the discs' (u, v) plane
-  const double along = ux * f.u.z + uy * f.v.z;              // ĝ·h
-  const double across = -uy * f.u.z + ux * f.v.z;            // ĝ⊥·h
-  auto at = [&](double l, Vec3* point) {
-    const double e = e0 + e1 * l, r = f.radius(l);
-    const double t = -std::copysign(std::sqrt(std::max(0.0, r * r - (e / gn) * (e / gn))), across);
-    const double alpha = (e / gn) * ux - t * uy, beta = (e / gn) * uy + t * ux;
-    if (point != nullptr) *point = f.centre(l) + f.u * alpha + f.v * beta;
-    return f.centre(l).z + (e / gn) * along + t * across;
-  };
-  const double l = convex_min_at([&](double x) { return at(x, nullptr); }, l_lo, l_hi);
-  Vec3 p;
-  const double z = at(l, &p);
-  return comp(p, j) >= lo - 1e-9 && comp(p, j) <= hi + 1e-9 ? z : inf;
+  const double ux = gx / gn, uy = gy / gn;         // ĝ in the discs' (u, v) plane
+  const double along = ux * f.u.z + uy * f.v.z;    // ĝ·h
+  const double across = -uy * f.u.z + ux * f.v.z;  // ĝ⊥·h
+  // G(λ) = c(λ).z + (e/|g|)·along − |across|·√(r² − (e/|g|)²), with e/|g| = F0 + F1·λ.
+  const double f0 = e0 / gn, f1 = e1 / gn, dr = f.r1 - f.r0;
+  const double l = convex_min_at(f.c0.z + f0 * along, f.a.z * f.len + f1 * along, std::abs(across), dr * dr - f1 * f1,
+                                 2.0 * (f.r0 * dr - f0 * f1), f.r0 * f.r0 - f0 * f0, l_lo, l_hi);
+  const double e = e0 + e1 * l, r = f.radius(l);
+  const double t = -std::copysign(std::sqrt(std::max(0.0, r * r - (e / gn) * (e / gn))), across);
+  const double alpha = (e / gn) * ux - t * uy, beta = (e / gn) * uy + t * ux;
+  const Vec3 p = f.centre(l) + f.u * alpha + f.v * beta;
+  return comp(p, j) >= lo - 1e-9 && comp(p, j) <= hi + 1e-9 ? p.z : inf;
 }
 
 // The lowest point of the solid F on the vertical line through (X, Y); +inf where it misses.
@@ -101,7 +113,7 @@ double lowest_on_line(const Frustum& f, double x, double y) {
     const double l = (a.x * dx0 + a.y * dy0) / f.len;
     if (!(l >= 0.0 && l <= 1.0)) return inf;
     const Vec3 c = f.centre(l);
-    const double h = std::hypot(x - c.x, y - c.y), r = f.radius(l);
+    const double h = std::sqrt((x - c.x) * (x - c.x) + (y - c.y) * (y - c.y)), r = f.radius(l);
     return h <= r ? c.z - std::sqrt(r * r - h * h) : inf;
   }
   // The line meets disc λ's plane at q(λ); d(λ) = q − c(λ) = D0 + D1·λ, inside where |d| <= r(λ).
@@ -135,7 +147,7 @@ double lowest_on_line(const Frustum& f, double x, double y) {
 // The lowest point of the solid F over the plate's rectangle (exact: the solid's lowest point when
 // it lies over the plate, else the least over the rectangle's four sides and four corners, where
 // the lowest point of the solid's part over the rectangle must then lie); +inf where none is over it.
-double lowest_over_plate(const Frustum& f, const SubstratePlate& p) {
+double lowest_over_plate(const Frustum& f, const SubstratePlate& p, double bx0, double by0, double bx1, double by1) {
   const double s = std::sqrt(std::max(0.0, 1.0 - f.a.z * f.a.z));
   const Vec3 down = s > 1e-12 ? (f.a * f.a.z - Vec3{0, 0, 1}) / s : Vec3{};
   double low = std::numeric_limits<double>::infinity();
@@ -145,11 +157,19 @@ double lowest_over_plate(const Frustum& f, const SubstratePlate& p) {
     if (q.z < low) low = q.z, lowest = q;
   }
   if (lowest.x >= p.x_min_mm && lowest.x <= p.x_max_mm && lowest.y >= p.y_min_mm && lowest.y <= p.y_max_mm) return low;
+  // Only the sides and corners within the solid's box [BX0, BX1] × [BY0, BY1] can meet it.
   double best = std::numeric_limits<double>::infinity();
-  for (const double x : {p.x_min_mm, p.x_max_mm}) best = std::min(best, lowest_on_face(f, 0, x, p.y_min_mm, p.y_max_mm));
-  for (const double y : {p.y_min_mm, p.y_max_mm}) best = std::min(best, lowest_on_face(f, 1, y, p.x_min_mm, p.x_max_mm));
+  const bool ys = by1 >= p.y_min_mm && by0 <= p.y_max_mm, xs = bx1 >= p.x_min_mm && bx0 <= p.x_max_mm;
   for (const double x : {p.x_min_mm, p.x_max_mm}) {
-    for (const double y : {p.y_min_mm, p.y_max_mm}) best = std::min(best, lowest_on_line(f, x, y));
+    if (ys && x >= bx0 && x <= bx1) best = std::min(best, lowest_on_face(f, 0, x, p.y_min_mm, p.y_max_mm));
+  }
+  for (const double y : {p.y_min_mm, p.y_max_mm}) {
+    if (xs && y >= by0 && y <= by1) best = std::min(best, lowest_on_face(f, 1, y, p.x_min_mm, p.x_max_mm));
+  }
+  for (const double x : {p.x_min_mm, p.x_max_mm}) {
+    for (const double y : {p.y_min_mm, p.y_max_mm}) {
+      if (x >= bx0 && x <= bx1 && y >= by0 && y <= by1) best = std::min(best, lowest_on_line(f, x, y));
+    }
   }
   return best;
 }
@@ -157,7 +177,8 @@ double lowest_over_plate(const Frustum& f, const SubstratePlate& p) {
 // The table's top under a disc centred at (X, Y) of radius R when the disc overlaps the table, else
 // none (−inf).
 double table_under(const BuildModel& m, double x, double y, double r) {
-  if (std::hypot(x - m.table_centre_mm.x, y - m.table_centre_mm.y) <= m.table_radius_mm + r) return m.table_top_z_mm();
+  const double dx = x - m.table_centre_mm.x, dy = y - m.table_centre_mm.y, reach = m.table_radius_mm + r;
+  if (dx * dx + dy * dy <= reach * reach) return m.table_top_z_mm();
   return -std::numeric_limits<double>::infinity();
 }
 
@@ -276,7 +297,7 @@ double head_clearance_mm(const BuildModel& m, Vec3 tip, Vec3 axis) {
       x0 = std::min(x0, c.x - r), x1 = std::max(x1, c.x + r), y0 = std::min(y0, c.y - r), y1 = std::max(y1, c.y + r);
     }
     if (x1 < p.x_min_mm || x0 > p.x_max_mm || y1 < p.y_min_mm || y0 > p.y_max_mm) return;
-    clearance = std::min(clearance, lowest_over_plate(f, p) - p.top_z_mm);
+    clearance = std::min(clearance, lowest_over_plate(f, p, x0, y0, x1, y1) - p.top_z_mm);
   };
   for (const HeadSolid& h : solids) visit(h);
   for (const HeadBox& b : m.head_boxes) {
