@@ -268,7 +268,7 @@ bool add_prebuilt(PrebuiltBody& body, const std::vector<Vec3>& vertices, const s
 
 double tip_clearance_mm(const BuildModel& m, Vec3 tip) { return tip.z - surface_under(m, tip.x, tip.y); }
 
-double head_clearance_mm(const BuildModel& m, Vec3 tip, Vec3 axis) {
+double head_clearance_mm(const BuildModel& m, Vec3 tip, Vec3 axis, double exact_below_mm) {
   const Vec3 a = core::normalized(axis);
   const NozzleModel& n = m.nozzle;
   const double tan_half = std::tan(n.tip_half_angle_deg * kPi / 180.0);
@@ -297,6 +297,13 @@ double head_clearance_mm(const BuildModel& m, Vec3 tip, Vec3 axis) {
       x0 = std::min(x0, c.x - r), x1 = std::max(x1, c.x + r), y0 = std::min(y0, c.y - r), y1 = std::max(y1, c.y + r);
     }
     if (x1 < p.x_min_mm || x0 > p.x_max_mm || y1 < p.y_min_mm || y0 > p.y_max_mm) return;
+    // The solid's lowest point bounds its part over the plate from below: enough where that is
+    // already no nearer than asked for exactly.
+    const double bound = std::min(f.c0.z - f.r0 * side, f.centre(1.0).z - f.r1 * side) - p.top_z_mm;
+    if (bound >= exact_below_mm || bound >= clearance) {
+      clearance = std::min(clearance, bound);
+      return;
+    }
     clearance = std::min(clearance, lowest_over_plate(f, p, x0, y0, x1, y1) - p.top_z_mm);
   };
   for (const HeadSolid& h : solids) visit(h);

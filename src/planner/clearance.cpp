@@ -23,7 +23,7 @@ constexpr double kBroadCheckRad = 5.0 * kPi / 180.0;
 
 bool clear_at(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
               double margin_mm, Vec3 tip, Vec3 axis) {
-  return machine::head_clearance_mm(model, tip, axis) >= clearance_mm && !deposit.strikes(tip, axis, before, margin_mm);
+  return machine::head_clearance_mm(model, tip, axis, clearance_mm) >= clearance_mm && !deposit.strikes(tip, axis, before, margin_mm);
 }
 
 // The angle between two axes (any length > 0), radians.

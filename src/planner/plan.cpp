@@ -106,7 +106,7 @@ core::Status refine_between(const machine::BuildModel& model, const toolpath::Pa
   for (const double u : {0.25, 0.5, 0.75}) {
     const Vec3 tip = a.position_mm + (b.position_mm - a.position_mm) * u;
     const Vec3 axis = core::normalized(a.tool_axis * (1.0 - u) + b.tool_axis * u);
-    clear = clear && machine::head_clearance_mm(model, tip, axis) >= 0.0;
+    clear = clear && machine::head_clearance_mm(model, tip, axis, 0.0) >= 0.0;
   }
   if (clear) return {};
   toolpath::PathPoint mid = b;

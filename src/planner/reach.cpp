@@ -97,8 +97,8 @@ bool guard_axis(const machine::MachineConfig& machine, const machine::BuildModel
   const Vec3 up{0, 0, 1};
   const Vec3 start = core::normalized(axis);
   auto ok = [&](Vec3 a) {
-    return angle(a, up) <= reach + 1e-12 && machine::head_clearance_mm(model, tip, a) >= clearance_mm &&
-           machine::head_clearance_mm(model, tip + a * lift_mm, a) >= clearance_mm && (tip + a * lift_mm).z >= 0.0 &&
+    return angle(a, up) <= reach + 1e-12 && machine::head_clearance_mm(model, tip, a, clearance_mm) >= clearance_mm &&
+           machine::head_clearance_mm(model, tip + a * lift_mm, a, clearance_mm) >= clearance_mm && (tip + a * lift_mm).z >= 0.0 &&
            machine::inverse(machine, tip, a, nullptr).ok() && machine::inverse(machine, tip + a * lift_mm, a, nullptr).ok();
   };
   if (ok(start)) return true;
@@ -132,7 +132,7 @@ bool move_clear(const machine::BuildModel& model, double clearance_mm, Vec3 tip_
   const int steps = static_cast<int>(std::clamp(std::max(by_turn, by_length), 1.0, 1000.0));
   for (int k = 0; k <= steps; ++k) {
     const double u = static_cast<double>(k) / steps;
-    if (machine::head_clearance_mm(model, tip_from + (tip_to - tip_from) * u, slerp(a, b, u)) < clearance_mm) return false;
+    if (machine::head_clearance_mm(model, tip_from + (tip_to - tip_from) * u, slerp(a, b, u), clearance_mm) < clearance_mm) return false;
   }
   return true;
 }

@@ -309,7 +309,7 @@ constexpr std::size_t kBlockMoves = 8192;
 
 struct Sample {
   machine::MachineToolPose pose;
-  double clearance_mm = 0.0;  // of the head to the plate and the table (machine/build_model.h)
+  double clearance_mm = 0.0;  // of the head to the plate and the table (machine/build_model.h; exact below 0)
 };
 
 // The samples of every move of BLOCK, SPACING apart along the tip and kSampleDeg of rotary motion
@@ -331,7 +331,7 @@ void sample_moves(const machine::MachineConfig& m, const machine::BuildModel& mo
   tbb::parallel_for(std::size_t{0}, block.size(), [&](std::size_t i) {
     const detail::WalkMove& mv = block[i];
     auto put = [&](std::size_t k, machine::MachineToolPose tp) {
-      out[k] = {tp, std::min(machine::head_clearance_mm(model, tp.tip_part_mm, tp.tool_axis_part), machine::tip_clearance_mm(model, tp.tip_part_mm))};
+      out[k] = {tp, std::min(machine::head_clearance_mm(model, tp.tip_part_mm, tp.tool_axis_part, 0.0), machine::tip_clearance_mm(model, tp.tip_part_mm))};
     };
     if (!mv.from_known) {
       put(first[i], detail::tool_at(m, mv, 1.0));

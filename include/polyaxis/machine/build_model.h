@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "polyaxis/core/vec3.h"
@@ -78,9 +79,10 @@ inline constexpr std::size_t kMaxPrebuiltSamples = 4'000'000;  // 192 MB; the im
 // along AXIS, both in the table frame: the least height of any head point above the surface under
 // it (substrate top over the plate, table top elsewhere), the first millimetre above the tip left
 // out. Negative: the head enters the plate or the table by that much. +inf when nothing is under
-// the head. Cost: constant; a few discs per solid, and where a solid crosses the plate's edge its
-// four sides (golden section, 60 steps) and four corners.
-double head_clearance_mm(const BuildModel& model, Vec3 tip, Vec3 axis);
+// the head. A clearance of EXACT_BELOW_MM or more may be reported as a lower bound of at least
+// EXACT_BELOW_MM (for callers that compare with it). Cost: constant; a few discs per solid, and
+// where a solid crosses the plate's edge its sides and corners (closed form).
+double head_clearance_mm(const BuildModel& model, Vec3 tip, Vec3 axis, double exact_below_mm = std::numeric_limits<double>::infinity());
 
 // The tip's own height above the surface under it (negative: below the substrate or table top).
 double tip_clearance_mm(const BuildModel& model, Vec3 tip);
