@@ -440,6 +440,8 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal, false, reach};
       std::vector<Candidate> cands = candidates_for(s, mesh, faces, axis.increment_mm, options.face_normal_tolerance_deg, alpha);
       if (!spend(static_cast<double>(cands.size() + s.targets.size()) * static_cast<double>(h.mesh.triangles.size()))) break;
+      const detail::HostFaces host_faces = detail::host_faces(h.mesh, h.build_direction, h.base_point, h.base_normal, alpha);
+      hr.faces = &host_faces;
       const std::vector<std::uint32_t> seeds = detail::nearest_facets(h.mesh, s.targets);
       // Candidates are screened in parallel; each writes only its own result.
       tbb::parallel_for(std::size_t{0}, cands.size(), [&](std::size_t k) {
@@ -493,6 +495,8 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       // The plate stays under the regions that stand on it; a cut base may go with the child, whose
       // facets on it are then checked like any other.
       hr.keep_base = !h.parent || h.rule == "below the plate";
+      const detail::HostFaces host_faces = detail::host_faces(h.mesh, h.build_direction, h.base_point, h.base_normal, alpha);
+      hr.faces = &host_faces;
       const auto patches = detail::overhang_patches(h.mesh, topology[host], h.build_direction, alpha, h.base_point, h.base_normal);
       for (std::size_t p = 0; p < patches.size() && p < kMaxPatchesPerRegion && !split; ++p) {
         patch_progress.update(++patches_tried);

@@ -161,21 +161,53 @@ std::vector<std::uint32_t> nearest_facets(const mesh::Mesh& m, std::span<const V
   return out;
 }
 
+HostFaces host_faces(const mesh::Mesh& m, Vec3 direction, Vec3 base_point, Vec3 base_normal, double alpha_deg) {
+  const std::size_t nf = m.triangles.size();
+  const double limit = -std::sin(alpha_deg * kPi / 180.0);
+  const Vec3 hd = core::normalized(direction), hb = core::normalized(base_normal);
+  HostFaces out;
+  out.normal.resize(nf), out.area_mm2.assign(nf, 0.0), out.on_base.assign(nf, 0), out.overhangs.assign(nf, 0);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Vec3 a2 = mesh::face_area_vector(m, f);
+    const double len = core::norm(a2);
+    if (len == 0.0) continue;
+    const Vec3 n = a2 / len;
+    bool on_base = true;
+    for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(m.corner(f, k) - base_point, hb)) <= kOnBaseMm;
+    out.normal[f] = n, out.area_mm2[f] = len / 2.0, out.on_base[f] = on_base;
+    out.overhangs[f] = !on_base && core::dot(n, hd) < limit;
+    out.area_sum_mm2 += len / 2.0;
+    if (out.overhangs[f]) out.overhang_sum_mm2 += len / 2.0;
+  }
+  return out;
+}
+
 Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span<const std::uint32_t> seeds,
                       std::span<const Vec3> direction_starts, double alpha_deg) {
   Screened out;
   const mesh::Mesh& m = *host.mesh;
   const std::size_t nv = m.vertices.size(), nf = m.triangles.size();
-  std::vector<double> s(nv);
-  for (std::size_t v = 0; v < nv; ++v) {
-    const double d = core::dot(m.vertices[v] - point, normal);
-    s[v] = std::fabs(d) <= kOnPlaneMm ? 0.0 : d;
-  }
-  auto touches = [&](std::size_t f) { return s[m.triangles[f][0]] > 0.0 || s[m.triangles[f][1]] > 0.0 || s[m.triangles[f][2]] > 0.0; };
-  std::vector<char> reached(nf, 0);
-  std::vector<std::uint32_t> stack;
+  const HostFaces own = host.faces ? HostFaces{} : host_faces(m, host.direction, host.base_point, host.base_normal, alpha_deg);
+  const HostFaces& hf = host.faces ? *host.faces : own;
+  // Signed distances of the corners the search reaches, and the facets reached, stamped per call
+  // (each thread keeps its own arrays: a call visits the child's facets only).
+  thread_local std::vector<double> s;
+  thread_local std::vector<std::uint32_t> s_stamp, reached_stamp;
+  thread_local std::uint32_t epoch = 0;
+  if (s.size() < nv) s.resize(nv), s_stamp.resize(nv, 0);
+  if (reached_stamp.size() < nf) reached_stamp.resize(nf, 0);
+  if (++epoch == 0) std::fill(s_stamp.begin(), s_stamp.end(), 0), std::fill(reached_stamp.begin(), reached_stamp.end(), 0), epoch = 1;
+  auto dist = [&](std::uint32_t v) {
+    if (s_stamp[v] != epoch) {
+      const double d = core::dot(m.vertices[v] - point, normal);
+      s[v] = std::fabs(d) <= kOnPlaneMm ? 0.0 : d, s_stamp[v] = epoch;
+    }
+    return s[v];
+  };
+  auto touches = [&](std::size_t f) { return dist(m.triangles[f][0]) > 0.0 || dist(m.triangles[f][1]) > 0.0 || dist(m.triangles[f][2]) > 0.0; };
+  std::vector<std::uint32_t> stack, reached;
   for (const std::uint32_t f : seeds) {
-    if (touches(f) && !reached[f]) reached[f] = 1, stack.push_back(f);
+    if (reached_stamp[f] != epoch && touches(f)) reached_stamp[f] = epoch, stack.push_back(f), reached.push_back(f);
   }
   if (stack.empty()) return out;
   while (!stack.empty()) {
@@ -185,38 +217,37 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
       const std::uint32_t o = host.topology->opposite[3 * f + k];
       if (o == mesh::kNoHalfEdge) continue;
       const std::uint32_t g = o / 3;
-      if (reached[g] || !touches(g)) continue;
-      if (std::max(s[m.triangles[f][k]], s[m.triangles[f][(k + 1) % 3]]) <= 0.0) continue;  // the edge is not on the child side
-      reached[g] = 1;
-      stack.push_back(g);
+      if (reached_stamp[g] == epoch || !touches(g)) continue;
+      if (std::max(dist(m.triangles[f][k]), dist(m.triangles[f][(k + 1) % 3])) <= 0.0) continue;  // the edge is not on the child side
+      reached_stamp[g] = epoch;
+      stack.push_back(g), reached.push_back(g);
     }
   }
+  // In the search's order (deterministic: the seeds' and the topology's).
+  std::vector<FacetSample> child;
+  child.reserve(reached.size());
+  double child_cap_mm2 = 0.0, child_area = 0.0, child_overhang = 0.0;
+  for (const std::uint32_t f : reached) {
+    if (hf.area_mm2[f] == 0.0) continue;
+    const Vec3 n = hf.normal[f];
+    const double sv[3] = {dist(m.triangles[f][0]), dist(m.triangles[f][1]), dist(m.triangles[f][2])};
+    double in_child = hf.area_mm2[f];  // whole on the child side, else clipped at the plane
+    if (sv[0] <= 0.0 || sv[1] <= 0.0 || sv[2] <= 0.0) {
+      const Vec3 p[3] = {m.corner(f, 0), m.corner(f, 1), m.corner(f, 2)};
+      in_child = std::min(in_child, positive_area(p, sv, n));
+    }
+    if (in_child > 0.0 && hf.on_base[f] && host.keep_base) return out;
+    if (in_child > 0.0) child.push_back({n, in_child}), out.child_area_mm2 += in_child;
+    child_cap_mm2 += in_child * core::dot(n, normal);
+    child_area += in_child;
+    if (hf.overhangs[f]) child_overhang += in_child;
+  }
+  // The parent keeps every facet's part off the child: the host's sums less the child's.
+  const double parent_area = hf.area_sum_mm2 - child_area;
+  out.parent_mm2 = std::max(0.0, hf.overhang_sum_mm2 - child_overhang);
+  if (child.empty() || parent_area <= kUnsupportedNoiseMm2) return out;
   const double limit = -std::sin(alpha_deg * kPi / 180.0);
   const Vec3 hd = core::normalized(host.direction), hb = core::normalized(host.base_normal);
-  std::vector<FacetSample> child;
-  double child_cap_mm2 = 0.0, parent_area = 0.0;
-  for (std::size_t f = 0; f < nf; ++f) {
-    const Vec3 a2 = mesh::face_area_vector(m, f);
-    const double len = core::norm(a2);
-    if (len == 0.0) continue;
-    const Vec3 n = a2 / len;
-    bool on_base = true;
-    for (int k = 0; k < 3; ++k) on_base = on_base && std::fabs(core::dot(m.corner(f, k) - host.base_point, hb)) <= kOnBaseMm;
-    double in_child = 0.0;
-    if (reached[f]) {
-      const Vec3 p[3] = {m.corner(f, 0), m.corner(f, 1), m.corner(f, 2)};
-      const double sv[3] = {s[m.triangles[f][0]], s[m.triangles[f][1]], s[m.triangles[f][2]]};
-      in_child = std::min(len / 2.0, positive_area(p, sv, n));
-      if (in_child > 0.0 && on_base && host.keep_base) return out;
-      if (in_child > 0.0) child.push_back({n, in_child}), out.child_area_mm2 += in_child;
-      child_cap_mm2 += in_child * core::dot(n, normal);
-    }
-    const double in_parent = len / 2.0 - in_child;
-    if (in_parent <= 0.0) continue;
-    parent_area += in_parent;
-    if (!on_base && core::dot(n, hd) < limit) out.parent_mm2 += in_parent;
-  }
-  if (child.empty() || parent_area <= kUnsupportedNoiseMm2) return out;
   // The cap closes both pieces; the parent's copy faces the child (+NORMAL). It rests on nothing
   // while the parent is built unless it lies on the parent's own base.
   const bool cap_on_base = std::fabs(core::dot(normal, hb)) > 1.0 - 1e-9 && std::fabs(core::dot(point - host.base_point, hb)) <= kOnBaseMm;

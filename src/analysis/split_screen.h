@@ -62,18 +62,31 @@ struct Screened {
   double total() const { return parent_mm2 + child_mm2; }
 };
 
+// What screen_split needs of every facet of a host, whatever the plane: its unit normal and area,
+// whether it lies on the host's base and whether it overhangs along the host's direction; and the
+// sums over the host (so a candidate visits only the facets of its child). Cost O(F).
+struct HostFaces {
+  std::vector<Vec3> normal;
+  std::vector<double> area_mm2;  // 0 for a degenerate facet (then no normal)
+  std::vector<char> on_base, overhangs;
+  double area_sum_mm2 = 0.0, overhang_sum_mm2 = 0.0;  // overhang: off the base only
+};
+HostFaces host_faces(const mesh::Mesh& m, Vec3 direction, Vec3 base_point, Vec3 base_normal, double alpha_deg);
+
 struct HostRegion {
   const mesh::Mesh* mesh;
   const mesh::EdgeTopology* topology;
   Vec3 direction, base_point, base_normal;
   bool keep_base = false;  // a child that would take facets of the host's base is not valid
   DirectionCone reach;     // the child's build direction stays inside it
+  const HostFaces* faces = nullptr;  // host_faces of the above, at the screening's alpha
 };
 
 // Estimates the split of HOST by the plane (POINT, unit NORMAL pointing to the child side): the
 // child is the surface on the normal side connected to SEEDS (nearest_facets of the branch's
 // points; those not on the child side are left out); every other part stays with the parent. Facet areas are clipped exactly at
-// the plane; pieces touching only through the cap are not joined (the exact cut does). Cost O(F).
+// the plane; pieces touching only through the cap are not joined (the exact cut does). Cost: the
+// child's facets and their corners (HOST.faces holds the rest).
 Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span<const std::uint32_t> seeds,
                       std::span<const Vec3> direction_starts, double alpha_deg);
 
