@@ -16,8 +16,9 @@
 //   - the overhang limit of adaptive.cpp: S_t within S_b (projected) grown by
 //     max(t_min·tan α, step).
 // Otherwise D ← (D + n)/2 (Ruan's steps 1–2) until D is within kEpsDeg of n, then Δ ← Δ − Δ/4
-// (step 3), from the nominal step down to ΔL_min. When no plane passes, the one turned furthest
-// that keeps the thickness and the order of the planes is taken (VolDiff and the overhang given up
+// (step 3), from the nominal step down to ΔL_min (the middle of the range tried second). When no
+// plane passes, the one turned furthest that keeps the thickness and the order of the planes (the
+// turn bisected as for a passing one) is taken (VolDiff and the overhang given up
 // for it, so that the layers keep turning towards the axis: a tube leaning 70° is reached in a few
 // dozen layers), else the plane parallel to the previous one at ΔL_min; both are counted in
 // limit_violations (as the adaptive slicer counts its own).
@@ -241,7 +242,13 @@ std::optional<Candidate> next_plane(Cutter& cutter, const Cut& below, const Slic
   auto keep_shaped = [&](const Cut& trial, const Verdict& v, double s) {
     if (v.shaped && (!shaped || s > shaped->turn)) shaped = Candidate{trial, v, s};
   };
-  for (double step = std::clamp(o.layer_mm, o.min_mm, o.max_mm); step >= o.min_mm - kThicknessSlackMm; step -= kShrink * step) {
+  // The steps: the nominal one, then the middle of the range (the most room for the planes to turn:
+  // a nominal step near an end of the range leaves them little), then Ruan's Δ − Δ/4 down to ΔL_min.
+  const double nominal = std::clamp(o.layer_mm, o.min_mm, o.max_mm), middle = 0.5 * (o.min_mm + o.max_mm);
+  std::vector<double> steps{nominal};
+  if (std::fabs(middle - nominal) > kThicknessSlackMm) steps.push_back(middle);
+  for (double step = nominal - kShrink * nominal; step >= o.min_mm - kThicknessSlackMm; step -= kShrink * step) steps.push_back(step);
+  for (const double step : steps) {
     const Cut probe = cutter.cut(n, below.h + step, &below, near_reach_mm(o));
     if (probe.empty()) continue;
     const Vec3 to_probe = probe.centroid - below.centroid;
@@ -255,6 +262,8 @@ std::optional<Candidate> next_plane(Cutter& cutter, const Cut& below, const Slic
     const double slack = std::min(o.max_mm - step, step - o.min_mm);
     const double start = spread * 1.0 > slack && spread > 0.0 ? std::max(slack, 0.0) / spread : 1.0;
     double fail = start < 1.0 ? std::min(1.0, 2.0 * start) : 0.0;  // a turn above the passing one to bisect towards
+    // The same for the thickness and the order alone (the fallback when no plane passes).
+    double shaped_at = -1.0, unshaped = fail;
     for (double s = start;; s *= 0.5) {
       Cut trial = turned(cutter, below, n, link, s, step, near_reach_mm(o));
       const Verdict v = judge(below, trial, o);
@@ -262,11 +271,22 @@ std::optional<Candidate> next_plane(Cutter& cutter, const Cut& below, const Slic
         here = Candidate{std::move(trial), v, s};
         break;
       }
+      if (shaped_at < 0.0) (v.shaped ? shaped_at : unshaped) = s;
       keep_shaped(trial, v, s);
       fail = s;
       if (angle_deg(core::normalized(n + (link - n) * s), n) < kEpsDeg) break;
     }
-    if (!here) continue;
+    if (!here) {
+      // The turn as far as the thickness and the order allow, bisected as a passing one would be.
+      for (int i = 0; i < kRefine && shaped_at >= 0.0 && unshaped > shaped_at; ++i) {
+        const double mid = 0.5 * (shaped_at + unshaped);
+        const Cut trial = turned(cutter, below, n, link, mid, step, near_reach_mm(o));
+        const Verdict v = judge(below, trial, o);
+        keep_shaped(trial, v, mid);
+        (v.shaped ? shaped_at : unshaped) = mid;
+      }
+      continue;
+    }
     for (int i = 0; i < kRefine && fail > 0.0; ++i) {
       const double mid = 0.5 * (here->turn + fail);
       Cut trial = turned(cutter, below, n, link, mid, step, near_reach_mm(o));

@@ -278,6 +278,33 @@ inline RawMesh leaning_tower(double r, double lean_deg, double lean_h, double h,
   return m;
 }
 
+// A solid bar whose horizontal section is a square of side W centred on a helix about Z (radius
+// R, TURNS turns over height H, starting at (R, 0, 0)): every section the same square, moved along
+// the helix (the reference part spiral.scad, solid). A square every STEP_MM of height, ends capped.
+inline RawMesh helical_bar(double w, double r, double turns, double h, double step_mm) {
+  RawMesh m;
+  const double pi = 3.14159265358979323846;
+  const auto levels = static_cast<std::uint32_t>(std::ceil(h / step_mm)) + 1;
+  const double corner[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
+  for (std::uint32_t k = 0; k < levels; ++k) {
+    const double z = std::min(h, k * step_mm), a = 2.0 * pi * turns * z / h;
+    for (const auto& c : corner) m.points.push_back({r * std::cos(a) + w * c[0], r * std::sin(a) + w * c[1], z});
+  }
+  for (std::uint32_t k = 0; k + 1 < levels; ++k) {
+    for (std::uint32_t i = 0; i < 4; ++i) {
+      const std::uint32_t a = 4 * k + i, b = 4 * k + (i + 1) % 4;
+      m.triangles.push_back({a, b, b + 4});
+      m.triangles.push_back({a, b + 4, a + 4});
+    }
+  }
+  const std::uint32_t t = 4 * (levels - 1);
+  m.triangles.push_back({0, 2, 1});
+  m.triangles.push_back({0, 3, 2});
+  m.triangles.push_back({t, t + 1, t + 2});
+  m.triangles.push_back({t, t + 2, t + 3});
+  return m;
+}
+
 // A spherical cap on the XY plane: the sphere of radius R cut at height H (0 < H <= R) above its
 // centre's side: its base disc at z = 0 and its top at z = H; N segments around, M rings.
 inline RawMesh spherical_cap(double r, double h, std::uint32_t n, std::uint32_t m) {
