@@ -277,11 +277,14 @@ std::optional<Candidate> next_plane(Cutter& cutter, const Cut& below, const Slic
       if (angle_deg(core::normalized(n + (link - n) * s), n) < kEpsDeg) break;
     }
     if (!here) {
-      // The turn as far as the thickness and the order allow, bisected as a passing one would be.
+      // The turn as far as the thickness and the order allow, bisected as a passing one would be
+      // (judged on those alone: the limits failed at every smaller turn).
+      SliceOptions shape_only = o;
+      shape_only.limits.voldiff.reset(), shape_only.limits.overhang_deg.reset();
       for (int i = 0; i < kRefine && shaped_at >= 0.0 && unshaped > shaped_at; ++i) {
         const double mid = 0.5 * (shaped_at + unshaped);
         const Cut trial = turned(cutter, below, n, link, mid, step, near_reach_mm(o));
-        const Verdict v = judge(below, trial, o);
+        const Verdict v = judge(below, trial, shape_only);
         keep_shaped(trial, v, mid);
         (v.shaped ? shaped_at : unshaped) = mid;
       }
