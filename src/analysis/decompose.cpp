@@ -384,9 +384,14 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   // Per region: its overhang in its own direction and its adjacency, refreshed when it is cut.
   std::vector<double> overhang;
   std::vector<mesh::EdgeTopology> topology;
+  // Bumped whenever a region is cut: what was worked out on the region before stays valid until then.
+  std::vector<std::uint64_t> version;
+  std::uint64_t next_version = 0;
   auto refresh = [&](std::size_t r) {
     overhang.resize(tree.regions.size());
     topology.resize(tree.regions.size());
+    version.resize(tree.regions.size());
+    version[r] = ++next_version;
     const Region& g = tree.regions[r];
     overhang[r] = detail::unsupported(g.mesh, g.build_direction, alpha, g.base_point, g.base_normal);
     topology[r] = mesh::build_topology(g.mesh);
@@ -415,53 +420,75 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   // The work budget (DecomposeOptions::work_budget_facet_visits): false once it is spent.
   auto spend = [&](double visits) {
     if (tree.budget_exhausted) return false;
+    if (options.stop != nullptr && options.stop->load(std::memory_order_relaxed)) return !(tree.budget_exhausted = true);
     tree.work_facet_visits += visits;
     if (options.work_budget_facet_visits > 0.0 && tree.work_facet_visits > options.work_budget_facet_visits) tree.budget_exhausted = true;
     return !tree.budget_exhausted;
   };
+  // Link S's candidates screened in region HOST, best first (none once the budget is spent).
+  auto screen_link = [&](const SplitLink& s, std::size_t host) {
+    const Region& h = tree.regions[host];
+    detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal, false, reach};
+    std::vector<Candidate> cands = candidates_for(s, mesh, faces, axis.increment_mm, options.face_normal_tolerance_deg, alpha);
+    if (!spend(static_cast<double>(cands.size() + s.targets.size()) * static_cast<double>(h.mesh.triangles.size()))) return std::vector<Candidate>{};
+    const detail::HostFaces host_faces = detail::host_faces(h.mesh, h.build_direction, h.base_point, h.base_normal, alpha);
+    hr.faces = &host_faces;
+    const std::vector<std::uint32_t> seeds = detail::nearest_facets(h.mesh, s.targets);
+    // Candidates are screened in parallel; each writes only its own result.
+    tbb::parallel_for(std::size_t{0}, cands.size(), [&](std::size_t k) {
+      Candidate& c = cands[k];
+      const Vec3 starts[] = {c.normal, s.dir, s.branch_dir};
+      c.screened = detail::screen_split(hr, c.point, c.normal, seeds, starts, alpha);
+    });
+    std::erase_if(cands, [](const Candidate& c) { return !c.screened.valid; });
+    std::stable_sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
+      return preferred(overhang[host] - a.screened.total(), a, s.dir, overhang[host] - b.screened.total(), b, s.dir);
+    });
+    return cands;
+  };
   std::vector<SplitLink> links = split_links(axis);
+  // Per link, what a round works out from regions that a later round may find uncut: the
+  // distance from its targets to each region, and its screened candidates in its host.
+  struct LinkMemo {
+    std::vector<std::pair<std::uint64_t, double>> distance;  // per region: (version, distance sum)
+    std::uint64_t host_version = 0;                          // of the host the candidates were screened in (0: none)
+    std::vector<Candidate> screened;                         // best first
+  };
+  std::vector<LinkMemo> memo(links.size());
   auto progress = std::make_unique<core::Progress>("decompose", links.size());  // links decided
-  for (;;) {
+  while (!tree.budget_exhausted) {  // once it is spent, no cut can be paid for
     progress->update(static_cast<std::uint64_t>(std::count_if(links.begin(), links.end(), [](const SplitLink& l) { return l.done; })));
     std::size_t best_link = links.size(), best_host = 0;
     double best_gain = 0.0;
-    std::vector<Candidate> best_candidates;
     for (std::size_t i = 0; i < links.size(); ++i) {
       SplitLink& s = links[i];
       if (s.done || s.targets.empty()) continue;
+      LinkMemo& m = memo[i];
+      m.distance.resize(tree.regions.size());
       std::size_t host = 0;
       double nearest = INFINITY;
       for (std::size_t r = 0; r < tree.regions.size(); ++r) {
-        const double d = distance_sum(tree.regions[r].mesh, s.targets);
-        if (d < nearest) nearest = d, host = r;
+        if (m.distance[r].first != version[r]) m.distance[r] = {version[r], distance_sum(tree.regions[r].mesh, s.targets)};
+        if (m.distance[r].second < nearest) nearest = m.distance[r].second, host = r;
       }
       if (overhang[host] <= 0.0) continue;  // nothing to gain in a support-free region
-      const Region& h = tree.regions[host];
-      detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal, false, reach};
-      std::vector<Candidate> cands = candidates_for(s, mesh, faces, axis.increment_mm, options.face_normal_tolerance_deg, alpha);
-      if (!spend(static_cast<double>(cands.size() + s.targets.size()) * static_cast<double>(h.mesh.triangles.size()))) break;
-      const detail::HostFaces host_faces = detail::host_faces(h.mesh, h.build_direction, h.base_point, h.base_normal, alpha);
-      hr.faces = &host_faces;
-      const std::vector<std::uint32_t> seeds = detail::nearest_facets(h.mesh, s.targets);
-      // Candidates are screened in parallel; each writes only its own result.
-      tbb::parallel_for(std::size_t{0}, cands.size(), [&](std::size_t k) {
-        Candidate& c = cands[k];
-        const Vec3 starts[] = {c.normal, s.dir, s.branch_dir};
-        c.screened = detail::screen_split(hr, c.point, c.normal, seeds, starts, alpha);
-      });
-      std::erase_if(cands, [](const Candidate& c) { return !c.screened.valid; });
-      std::stable_sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
-        return preferred(overhang[host] - a.screened.total(), a, s.dir, overhang[host] - b.screened.total(), b, s.dir);
-      });
+      if (m.host_version != version[host]) {
+        m.host_version = version[host];
+        m.screened = screen_link(s, host);
+        if (tree.budget_exhausted) break;
+      }
+      const std::vector<Candidate>& cands = m.screened;
       if (cands.empty()) continue;
       const double gain = overhang[host] - cands[0].screened.total();
-      if (gain > kMinGainMm2 && (best_link == links.size() || preferred(gain, cands[0], s.dir, best_gain, best_candidates[0], links[best_link].dir))) {
-        best_gain = gain, best_link = i, best_host = host, best_candidates = std::move(cands);
+      if (gain > kMinGainMm2 &&
+          (best_link == links.size() || preferred(gain, cands[0], s.dir, best_gain, memo[best_link].screened[0], links[best_link].dir))) {
+        best_gain = gain, best_link = i, best_host = host;
       }
     }
     if (best_link == links.size()) break;
     SplitLink& s = links[best_link];
     s.done = true;
+    const std::vector<Candidate> best_candidates = std::move(memo[best_link].screened);
     const std::size_t host = best_host;
     std::optional<ExactSplit> chosen;
     const Candidate* used = nullptr;

@@ -88,7 +88,12 @@ double winding(const mesh::Mesh& m, Vec3 p) { return mesh::winding_number(m, p);
 
 double distance_to_solid(const mesh::Mesh& m, Vec3 p) {
   if (m.triangles.empty()) return INFINITY;
-  if (winding(m, p) > core::kInsideWindingNumber) return 0.0;
+  // Outside the box of its vertices a point is outside the solid: the winding number (an arctangent
+  // per facet) is worked out only inside it.
+  core::Box3 box;
+  for (const Vec3& v : m.vertices) box.add(v);
+  const bool in_box = p.x >= box.min.x && p.x <= box.max.x && p.y >= box.min.y && p.y <= box.max.y && p.z >= box.min.z && p.z <= box.max.z;
+  if (in_box && winding(m, p) > core::kInsideWindingNumber) return 0.0;
   double best = INFINITY;
   for (std::size_t f = 0; f < m.triangles.size(); ++f) best = std::min(best, distance2_to_triangle(p, m.corner(f, 0), m.corner(f, 1), m.corner(f, 2)));
   return std::sqrt(best);

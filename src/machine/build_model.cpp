@@ -280,6 +280,22 @@ double head_clearance_mm(const BuildModel& m, Vec3 tip, Vec3 axis, double exact_
   const Vec3 u = core::normalized(core::cross(a, helper)), v = core::cross(a, u);
   const double side = std::sqrt(std::max(0.0, 1.0 - a.z * a.z));
   const SubstratePlate& p = m.substrate;
+  // Every solid below lies within its widest radius of the axis, between its lowest and highest
+  // point along it: its lowest point is no lower than that span's lower end less the widest
+  // radius times the axis's slope. Above the highest surface by at least EXACT_BELOW_MM, that
+  // bound is the answer (most calls: the head well above the plate), and no solid is visited.
+  {
+    double r_max = std::max(n.cone_height_mm * tan_half, n.cylinder_radius_mm), low = std::min(tip_zone * a.z, n.cone_height_mm * a.z);
+    low = std::min(low, (n.cone_height_mm + n.cylinder_height_mm) * a.z);
+    for (const HeadBox& b : m.head_boxes) {
+      for (const double x : {b.min_mm[0], b.max_mm[0]}) {
+        for (const double y : {b.min_mm[1], b.max_mm[1]}) r_max = std::max(r_max, std::hypot(x, y));
+      }
+      low = std::min({low, b.min_mm[2] * a.z, b.max_mm[2] * a.z});
+    }
+    const double bound = tip.z + low - r_max * side - std::max(p.top_z_mm, m.table_top_z_mm());
+    if (bound >= exact_below_mm) return bound;
+  }
   double clearance = std::numeric_limits<double>::infinity();
   auto visit = [&](HeadSolid h) {
     if (h.s1_mm <= h.s0_mm) h.s1_mm = h.s0_mm + 1e-6;  // a flat box: its disc

@@ -67,12 +67,6 @@ std::string check_range(char axis, double v, const AxisRange& r, const char* uni
   return {};
 }
 
-struct Candidate {
-  MachinePose pose;
-  double cost = 0.0;
-  std::string violation;
-};
-
 }  // namespace
 
 std::string limit_violation(const MachineConfig& m, const MachinePose& pose) {
@@ -110,30 +104,25 @@ MachineToolPose forward(const MachineConfig& m, const MachinePose& pose) {
   return {tip, axis};
 }
 
-core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in, const MachinePose* previous) {
-  const double len = norm(axis_in);
-  if (!is_finite(tip) || !is_finite(axis_in) || !(len > 0.0)) {
-    return core::make_error(core::ErrorCode::kInternal,
-                            fmt::format("inverse kinematics: tip ({}, {}, {}) or tool axis ({}, {}, {}) is zero or not finite",
-                                        tip.x, tip.y, tip.z, axis_in.x, axis_in.y, axis_in.z));
-  }
-  const Vec3 u = axis_in / len;
-  const double tilt_rad = std::atan2(std::hypot(u.x, u.y), u.z);  // angle from +Z, in [0, π]
+namespace {
 
-  if (!has_rotary_axes(m.kind)) {
-    if (tilt_rad > kThreeAxisAxisToleranceRad) {
-      return core::make_error(core::ErrorCode::kMachineLimit,
-                              fmt::format("the 3-axis machine '{}' cannot tilt the tool: axis ({:.6f}, {:.6f}, {:.6f}) is "
-                                          "{:.4f}° from vertical",
-                                          m.name, u.x, u.y, u.z, tilt_rad * kDegPerRad));
-    }
-    MachinePose pose{tip.x, tip.y, tip.z, 0.0, 0.0};
-    if (std::string v = limit_violation(m, pose); !v.empty()) {
-      return core::make_error(core::ErrorCode::kMachineLimit, fmt::format("{} (pose {})", v, format_pose(m, pose)));
-    }
-    return pose;
-  }
+bool within_range(double v, const AxisRange& r) { return v >= r.min - kAxisLimitSlack && v <= r.max + kAxisLimitSlack; }
 
+// limit_violation(M, POSE).empty(), without making the message.
+bool within_limits(const MachineConfig& m, const MachinePose& pose) {
+  if (!within_range(pose.x_mm, m.x_mm) || !within_range(pose.y_mm, m.y_mm) || !within_range(pose.z_mm, m.z_mm)) return false;
+  if (!has_rotary_axes(m.kind)) return true;
+  return within_range(pose.a_or_b_deg, m.tilt_deg) && (m.c_continuous || within_range(pose.c_deg, m.c_deg));
+}
+
+// What inverse() solves, in numbers: the chosen branch's pose and whether it is inside the limits
+// (the message is made only where it is needed). U: the unit tool axis; TILT_RAD: its angle from +Z.
+struct Solution {
+  MachinePose pose;
+  bool inside = false;
+};
+
+Solution solve_rotary(const MachineConfig& m, Vec3 tip, Vec3 u, double tilt_rad, const MachinePose* previous) {
   const bool head = tilts_head(m.kind);
   const double s = head ? 1.0 : sense(m);
   const double prev_t = previous ? previous->a_or_b_deg : 0.0;
@@ -159,7 +148,8 @@ core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in
     branches[1] = {-tilt_rad, phi + std::numbers::pi};
   }
 
-  Candidate best;
+  Solution best;
+  double best_cost = 0.0;
   bool have_best = false;
   for (std::size_t b = 0; b < branches.size(); ++b) {
     const auto [tau, phi] = branches[b];
@@ -185,22 +175,61 @@ core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in
       }
     }
     const Vec3 j = head ? head_joints(m, tip, t_deg * kRadPerDeg, c_deg * kRadPerDeg) : joints_for(m, tip, s * t_deg * kRadPerDeg, s * c_deg * kRadPerDeg);
-    Candidate cand{{j.x, j.y, j.z, t_deg, c_deg}, std::abs(t_deg - prev_t) + std::abs(c_deg - prev_c), {}};
-    cand.violation = limit_violation(m, cand.pose);
+    const Solution cand{{j.x, j.y, j.z, t_deg, c_deg}, false};
+    const double cost = std::abs(t_deg - prev_t) + std::abs(c_deg - prev_c);
+    const bool inside = within_limits(m, cand.pose);
     // Feasible beats infeasible, then least rotary motion; ties keep the first (positive τ) branch.
-    const bool better = !have_best || (cand.violation.empty() && !best.violation.empty()) ||
-                        (cand.violation.empty() == best.violation.empty() && cand.cost < best.cost);
+    const bool better = !have_best || (inside && !best.inside) || (inside == best.inside && cost < best_cost);
     if (better) {
-      best = std::move(cand);
+      best = {cand.pose, inside};
+      best_cost = cost;
       have_best = true;
     }
   }
-  if (!best.violation.empty()) {
+  return best;
+}
+
+}  // namespace
+
+core::Result<MachinePose> inverse(const MachineConfig& m, Vec3 tip, Vec3 axis_in, const MachinePose* previous) {
+  const double len = norm(axis_in);
+  if (!is_finite(tip) || !is_finite(axis_in) || !(len > 0.0)) {
+    return core::make_error(core::ErrorCode::kInternal,
+                            fmt::format("inverse kinematics: tip ({}, {}, {}) or tool axis ({}, {}, {}) is zero or not finite",
+                                        tip.x, tip.y, tip.z, axis_in.x, axis_in.y, axis_in.z));
+  }
+  const Vec3 u = axis_in / len;
+  const double tilt_rad = std::atan2(std::hypot(u.x, u.y), u.z);  // angle from +Z, in [0, π]
+
+  if (!has_rotary_axes(m.kind)) {
+    if (tilt_rad > kThreeAxisAxisToleranceRad) {
+      return core::make_error(core::ErrorCode::kMachineLimit,
+                              fmt::format("the 3-axis machine '{}' cannot tilt the tool: axis ({:.6f}, {:.6f}, {:.6f}) is "
+                                          "{:.4f}° from vertical",
+                                          m.name, u.x, u.y, u.z, tilt_rad * kDegPerRad));
+    }
+    MachinePose pose{tip.x, tip.y, tip.z, 0.0, 0.0};
+    if (std::string v = limit_violation(m, pose); !v.empty()) {
+      return core::make_error(core::ErrorCode::kMachineLimit, fmt::format("{} (pose {})", v, format_pose(m, pose)));
+    }
+    return pose;
+  }
+  const Solution best = solve_rotary(m, tip, u, tilt_rad, previous);
+  if (!best.inside) {
     return core::make_error(core::ErrorCode::kMachineLimit,
-                            fmt::format("{} (pose {}; no other solution branch is inside the limits)", best.violation,
+                            fmt::format("{} (pose {}; no other solution branch is inside the limits)", limit_violation(m, best.pose),
                                         format_pose(m, best.pose)));
   }
   return best.pose;
+}
+
+bool reachable(const MachineConfig& m, Vec3 tip, Vec3 axis) {
+  const double len = norm(axis);
+  if (!is_finite(tip) || !is_finite(axis) || !(len > 0.0)) return false;
+  const Vec3 u = axis / len;
+  const double tilt_rad = std::atan2(std::hypot(u.x, u.y), u.z);
+  if (!has_rotary_axes(m.kind)) return tilt_rad <= kThreeAxisAxisToleranceRad && within_limits(m, {tip.x, tip.y, tip.z, 0.0, 0.0});
+  return solve_rotary(m, tip, u, tilt_rad, nullptr).inside;
 }
 
 std::optional<MachinePose> joints_for_tip(const MachineConfig& m, Vec3 tip, const MachinePose& angles) {

@@ -5,6 +5,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -266,9 +267,11 @@ core::Status mark_prebuilt(std::vector<PlanRegion>& regions, const PlanPartOptio
   return {};
 }
 
+// STOP: set by another thread when the candidate is no longer wanted (it then ends early with an
+// error that nobody reads); null when it always is.
 core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                         const process::ProcessConfig& process, const PlanPartOptions& o,
-                                        const analysis::RootBase& root_base) {
+                                        const analysis::RootBase& root_base, const std::atomic<bool>* stop = nullptr) {
   // The decomposition's exact cuts (CGAL corefinement) need a solid whose surface does not cross
   // itself. A few crossing faces, where a part's pieces were fused imperfectly (two_branches: 16
   // of 6 744), are cut through where the plane misses them; a surface where many cross is a pile of
@@ -290,8 +293,10 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   dopt.self_supporting_deg = process.self_supporting_deg;
   dopt.work_budget_facet_visits = o.decompose_budget_facet_visits;
   dopt.reach_deg = detail::direction_reach_rad(machine, process) * 180.0 / std::numbers::pi;
+  dopt.stop = stop;
   auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
   if (!tree) return tree.error();
+  if (stop != nullptr && stop->load()) return core::make_error(core::ErrorCode::kInfeasible, "not wanted any more");
   if (o.strategy == Strategy::kAuto && tree.value().regions.size() < 2) {
     return core::make_error(core::ErrorCode::kInfeasible, "it finds the part one region: nothing to split");
   }
@@ -442,6 +447,10 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
   std::string best_label;
   std::optional<core::ErrorCode> first_code;
   bool root_at_lowest = false;  // a decomposition so far was rooted at the lowest point
+  PlanPartOptions over = o;     // the part turned over
+  over.direction = o.direction * -1.0;
+  std::optional<core::Result<Candidate>> over_early;  // its decomposition, made ahead
+  std::atomic<bool> over_unwanted{false};
   auto consider = [&](core::Result<Candidate> c, const std::string& label) {
     if (!c) {
       if (!first_code) first_code = c.error().code;
@@ -452,18 +461,24 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
   };
   auto done = [&] { return best && best->plan.unsupported_area_mm2 == 0.0; };
   if (has_ceiling(part.mesh, o.direction, process.layer_max_mm)) {
-    // One direction cannot be support-free: the decomposition is needed, and is made alongside it
-    // (the same two candidates as one after the other, in less time).
+    // One direction cannot be support-free: the decomposition is needed, and is made alongside it.
+    // One direction is the shorter side: after it, that side makes the decomposition turned over
+    // ahead of being asked; it is taken (below) only where nothing before it is support-free, and
+    // stopped once the decomposition is. The choice is the same as one candidate after the other,
+    // in less time.
     std::optional<core::Result<Candidate>> single, decomposed;
+    const bool may_turn_over = o.root_base.kind == analysis::RootBase::Kind::kAuto;
     const auto progress = core::ProgressScope::current();  // each side may run on a worker thread
     tbb::parallel_invoke(
         [&] {
           const core::ProgressScope scope(progress);
           single.emplace(plan_single(part, machine, process, o));
+          if (may_turn_over && !over_unwanted.load()) over_early.emplace(plan_decomposed(part, machine, process, over, o.root_base, &over_unwanted));
         },
         [&] {
           const core::ProgressScope scope(progress);
           decomposed.emplace(plan_decomposed(part, machine, process, o, o.root_base));
+          if (decomposed->ok() && decomposed->value().plan.unsupported_area_mm2 == 0.0) over_unwanted = true;
         });
     consider(std::move(*single), "one build direction");
     consider(std::move(*decomposed), "the decomposition");
@@ -478,9 +493,7 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
       consider(plan_decomposed(part, machine, process, o, lowest), "the decomposition from the lowest point");
     }
     if (!done()) {
-      PlanPartOptions over = o;
-      over.direction = o.direction * -1.0;
-      consider(plan_decomposed(part, machine, process, over, o.root_base), "the decomposition turned over");
+      consider(over_early ? std::move(*over_early) : plan_decomposed(part, machine, process, over, o.root_base), "the decomposition turned over");
     }
   }
   if (!best) {

@@ -99,7 +99,7 @@ bool guard_axis(const machine::MachineConfig& machine, const machine::BuildModel
   auto ok = [&](Vec3 a) {
     return angle(a, up) <= reach + 1e-12 && machine::head_clearance_mm(model, tip, a, clearance_mm) >= clearance_mm &&
            machine::head_clearance_mm(model, tip + a * lift_mm, a, clearance_mm) >= clearance_mm && (tip + a * lift_mm).z >= 0.0 &&
-           machine::inverse(machine, tip, a, nullptr).ok() && machine::inverse(machine, tip + a * lift_mm, a, nullptr).ok();
+           machine::reachable(machine, tip, a) && machine::reachable(machine, tip + a * lift_mm, a);
   };
   if (ok(start)) return true;
   // The furthest the axis may turn: to +Z, or as far as it stays within kMaxTiltRad of D.

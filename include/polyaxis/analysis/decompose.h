@@ -2,6 +2,7 @@
 // direction (SPEC §2.3, Ruan et al. 2006 §4.1).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -84,6 +85,9 @@ struct DecomposeOptions {
   // file). A region that no reachable direction holds keeps its overhang rather than a direction
   // the machine cannot take. 180: any direction.
   double reach_deg = 180.0;
+  // Set (by another thread) when the result is no longer wanted: the decomposition ends at its
+  // next piece of work, as if its budget were spent. Null: it runs to its end.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 // What one exact cut (CGAL, exact kernel) costs against the work budget, per facet of the region cut.

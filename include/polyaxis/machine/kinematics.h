@@ -96,6 +96,10 @@ MachineToolPose forward(const MachineConfig& machine, const MachinePose& pose);
 core::Result<MachinePose> inverse(const MachineConfig& machine, Vec3 tip_part_mm, Vec3 tool_axis_part,
                                   const MachinePose* previous);
 
+// Whether inverse(MACHINE, TIP_PART_MM, TOOL_AXIS_PART, nullptr) succeeds, without making its pose
+// or its message: for the checks that only ask (the torch guard's many trial axes). Cost: constant.
+bool reachable(const MachineConfig& machine, Vec3 tip_part_mm, Vec3 tool_axis_part);
+
 // The linear axes that put the tip at TIP_PART_MM with the rotary axes where ANGLES has them (its
 // linear axes are ignored): for fixed rotary axes the tip is an affine map of the linear ones,
 // solved exactly. What a controller under tool centre point control (G43.4) does with a block's

@@ -349,6 +349,34 @@ TEST(Kinematics, LimitsNameAxisValueAndLimit) {
   EXPECT_NE(z.error().message.find("maximum 100"), std::string::npos) << z.error().message;
 }
 
+// reachable() answers what inverse() would, on every kind, with limits that cut through the
+// sampled poses (so that both answers occur), on random tips and axes and on bad input.
+TEST(Kinematics, ReachableAgreesWithInverse) {
+  const std::pair<Kinematics, bool> kinds[] = {{Kinematics::kTableTiltA_RotaryC, false}, {Kinematics::kTableTiltB_RotaryC, true},
+                                               {Kinematics::kHeadTiltA_RotaryC, false}, {Kinematics::kHeadTiltB_RotaryC, false},
+                                               {Kinematics::k3Axis, false}};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> lin(-200.0, 200.0), unit(-1.0, 1.0);
+  int yes = 0, no = 0;
+  for (const auto& [kind, conventional] : kinds) {
+    MachineConfig m = kind == Kinematics::k3Axis ? three_axis() : five_axis(kind, conventional);
+    m.x_mm = {-150.0, 120.0}, m.z_mm = {-90.0, 160.0};
+    if (has_rotary_axes(kind)) m.tilt_deg = {-40.0, 100.0}, m.c_continuous = false, m.c_deg = {-200.0, 150.0};
+    for (int i = 0; i < 3000; ++i) {
+      const Vec3 tip{lin(rng), lin(rng), lin(rng)};
+      Vec3 axis{unit(rng), unit(rng), unit(rng)};
+      if (kind == Kinematics::k3Axis && i % 2 == 0) axis = {0.0, 0.0, 1.0 + unit(rng)};
+      const bool expected = inverse(m, tip, axis, nullptr).ok();
+      ASSERT_EQ(reachable(m, tip, axis), expected) << static_cast<int>(kind) << " tip " << tip.x << " " << tip.y << " " << tip.z;
+      (expected ? yes : no) += 1;
+    }
+    EXPECT_FALSE(reachable(m, {NAN, 0.0, 0.0}, {0.0, 0.0, 1.0}));
+    EXPECT_FALSE(reachable(m, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}));
+  }
+  EXPECT_GT(yes, 1000);
+  EXPECT_GT(no, 1000);
+}
+
 TEST(Kinematics, ThreeAxisRefusesTilt) {
   const MachineConfig m = three_axis();
   auto bad = inverse(m, {0.0, 0.0, 0.0}, {0.0, 0.1, 1.0}, nullptr);
