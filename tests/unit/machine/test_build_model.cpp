@@ -152,6 +152,40 @@ TEST(BuildModel, HeadBoxesSweptAboutTheAxis) {
   EXPECT_NEAR(head_clearance_mm(f.wide, {0, 0, 50}, axis), 50.0 + expected, 1e-9);
 }
 
+TEST(BuildModel, AClearanceAskedForBelowAThresholdIsExactBelowItAndAtLeastItAbove) {
+  // head_clearance_mm(…, T): the exact clearance where that is below T, else a value of at least T
+  // (the bound callers compare with T get). Random tips and axes (some pointing down, a head box
+  // reaching below the tip) about a plate, with thresholds on both sides of the exact value.
+  Fixture f;
+  HeadBox box;
+  box.min_mm[0] = 10, box.max_mm[0] = 35, box.min_mm[1] = -8, box.max_mm[1] = 8, box.min_mm[2] = -2, box.max_mm[2] = 45;
+  f.model.head_boxes.push_back(box);
+  std::uint64_t seed = 777;
+  auto uniform = [&](double lo, double hi) {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(seed >> 11) / 9007199254740992.0;
+  };
+  int bounded = 0, exact_asked = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Vec3 tip{uniform(-60, 60), uniform(-70, 70), uniform(-5, 80)};
+    const double tilt = uniform(0, 120) * kPi / 180.0, azimuth = uniform(0, 2 * kPi);
+    const Vec3 axis{std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth), std::cos(tilt)};
+    const double exact = head_clearance_mm(f.model, tip, axis);
+    const double threshold = uniform(-5, 40);
+    const double asked = head_clearance_mm(f.model, tip, axis, threshold);
+    if (exact < threshold) {
+      EXPECT_DOUBLE_EQ(asked, exact) << trial;
+      ++exact_asked;
+    } else {
+      EXPECT_GE(asked, threshold) << trial;
+      EXPECT_LE(asked, exact + 1e-9) << trial;
+      bounded += asked < exact - 1e-9;
+    }
+  }
+  EXPECT_GT(exact_asked, 200);
+  EXPECT_GT(bounded, 200);  // the bound answered
+}
+
 TEST(BuildModel, MachineFileKeys) {
   auto m = parse_machine(R"({"name":"x","kinematics":"xyz","limits":{"x":{"min":0,"max":1},"y":{"min":0,"max":1},"z":{"min":0,"max":1}},
     "feed":{"linear_max_mm_min":100},"table":{"radius_mm":120},"head_boxes":[{"min_mm":[0,0,30],"max_mm":[10,10,40]}]})",
