@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include <filesystem>
+#include <optional>
 
 #include "polyaxis/core/progress.h"
 #include "polyaxis/io/output_set.h"
@@ -73,13 +76,25 @@ core::Status write_plan_files(const PlanFilesOptions& o, const PlanSet& plan_set
     return s;
   };
   PlanView view = make_plan_view(plan, machine, process, job.axis ? &*job.axis : nullptr, meta.part, plan_set.report_json, &job.check);
-  if (o.html) {
-    // Machine playback in report.html: the program as its controller reads it.
-    auto frames = verify::playback_frames(machine, process, job.gcode);
-    if (!frames) return frames.error();
-    view.playback = ViewPlayback{machine, std::move(frames.value())};
+  // plan.json leaves out the machine playback of report.html (the program as its controller reads
+  // it): the two are made side by side.
+  std::string plan_json;
+  std::optional<core::Result<std::vector<verify::PlaybackFrame>>> frames;
+  const auto scope = core::ProgressScope::current();  // each side may run on a worker thread
+  tbb::parallel_invoke(
+      [&] {
+        const core::ProgressScope inner(scope);
+        plan_json = plan_view_json(view);
+      },
+      [&] {
+        const core::ProgressScope inner(scope);
+        if (o.html) frames.emplace(verify::playback_frames(machine, process, job.gcode));
+      });
+  if (frames) {
+    if (!*frames) return frames->error();
+    view.playback = ViewPlayback{machine, std::move(frames->value())};
   }
-  if (auto s = add("plan.json", plan_view_json(view), io::Durability::kAtomic); !s) return s;
+  if (auto s = add("plan.json", plan_json, io::Durability::kAtomic); !s) return s;
   if (auto s = add("report.json", plan_set.report_json, io::Durability::kAtomic); !s) return s;
   if (auto s = add("timings.json", timings_json(plan, meta), io::Durability::kAtomic); !s) return s;
   if (o.html) {
