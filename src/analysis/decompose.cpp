@@ -273,15 +273,20 @@ const PlanarFace* plate_face(const std::vector<PlanarFace>& faces, const Centroi
 
 }  // namespace
 
-std::vector<BaseFace> base_faces(const mesh::Mesh& mesh) {
+namespace {
+
+std::vector<BaseFace> base_faces_of(const std::vector<PlanarFace>& faces) {
   std::vector<BaseFace> out;
-  const std::vector<PlanarFace> faces = detail::planar_faces(mesh);
   for (std::size_t i = 0; i < faces.size(); ++i) {
     const PlanarFace& f = faces[i];
     if (f.area_mm2 >= kMinBaseFaceMm2) out.push_back({static_cast<std::uint32_t>(i), f.normal, f.point, f.area_mm2, f.facets});
   }
   return out;
 }
+
+}  // namespace
+
+std::vector<BaseFace> base_faces(const mesh::Mesh& mesh) { return base_faces_of(detail::planar_faces(mesh)); }
 
 namespace {
 
@@ -319,7 +324,8 @@ core::Result<Vec3> root_direction(const mesh::Mesh& mesh, const RootBase& base, 
 core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis& axis, const DecomposeOptions& options) {
   const double alpha = options.self_supporting_deg;
   RegionTree tree;
-  tree.faces = base_faces(mesh);
+  const std::vector<PlanarFace> faces = detail::planar_faces(mesh);
+  tree.faces = base_faces_of(faces);
   auto root_dir = root_direction(mesh, options.root_base, options.root_direction);
   if (!root_dir) return root_dir.error();
   Region root;
@@ -333,7 +339,6 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   for (const Vec3& v : mesh.vertices) lowest = std::min(lowest, core::dot(v, up));
   root.base_point = up * lowest;
   root.rule = "plate";
-  const std::vector<PlanarFace> faces = detail::planar_faces(mesh);
   // The base plane: the plate found from the axis, or the one pinned by options.root_base. What
   // lies on its far side (knuckles under a body, a corner poking through a base plate) becomes
   // regions built the opposite way from it.
@@ -467,7 +472,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       m.distance.resize(tree.regions.size());
       std::size_t host = 0;
       double nearest = INFINITY;
-      for (std::size_t r = 0; r < tree.regions.size(); ++r) {
+      for (std::size_t r = 0; r < tree.regions.size() && tree.regions.size() > 1; ++r) {  // one region is the host
         if (m.distance[r].first != version[r]) m.distance[r] = {version[r], distance_sum(tree.regions[r].mesh, s.targets)};
         if (m.distance[r].second < nearest) nearest = m.distance[r].second, host = r;
       }
