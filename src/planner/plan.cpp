@@ -703,7 +703,10 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   if (auto s = place_checks(regions, machine, process, plan); !s) return s.error();
   plan.regions = static_cast<std::uint32_t>(regions.size());
   const std::shared_ptr<const mesh::SurfaceDistance> base = prebuilt_surface(regions, options.layers);
+  auto stopped = [&] { return options.stop != nullptr && options.stop->load(std::memory_order_relaxed); };
+  const core::Error stop_error{core::ErrorCode::kInfeasible, "stopped"};
   for (PlanRegion& region : regions) {
+    if (stopped()) return stop_error;
     if (region.prebuilt) continue;
     // The whole part's topology is valid only for the unsplit part.
     if (auto st = add_region(plan, region, regions, given_regions.empty() ? &part.topology : nullptr, machine, process, options, base); !st) {
@@ -715,6 +718,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
     return core::make_error(core::ErrorCode::kInfeasible, has_prebuilt(regions) ? "nothing to build: the prebuilt part is the whole part"
                                                                                 : "nothing to build: the part has no layers");
   }
+  if (stopped()) return stop_error;
   auto t0 = Clock::now();
   order_layers(plan, machine, process);
   // Tilts eased where the head would strike what is built before them, in build order; the support
@@ -734,8 +738,8 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   if (!has_prebuilt(regions)) {
     if (auto s = first_deposit_on_plate(plan, process); !s) return s.error();
   }
+  if (stopped()) return stop_error;
   t0 = Clock::now();
-
   finish_program(plan, machine, process, options, deposit);
   if (plan.program.empty()) return core::make_error(core::ErrorCode::kInfeasible, "nothing to build: every layer is thinner than a bead");
   plan.times.program_s = since(t0);

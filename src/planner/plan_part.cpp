@@ -287,6 +287,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   axis_options.start_direction = analysis::nearest_major_direction(root_dir.value());
   auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
   if (!axis) return axis.error();
+  if (stop != nullptr && stop->load()) return core::make_error(core::ErrorCode::kInfeasible, "not wanted any more");
   analysis::DecomposeOptions dopt;
   dopt.root_direction = root_dir.value();
   dopt.root_base = root_base;
@@ -358,6 +359,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   if (auto st = mark_prebuilt(regions, o); !st) return st.error();
   PlanOptions po = o.plan;
   po.direction = root_dir.value();
+  po.stop = stop;
   auto plan = make_plan(part, machine, process, po, regions);
   if (!plan) return plan.error();
   c.plan = std::move(plan.value());

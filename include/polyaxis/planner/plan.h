@@ -3,6 +3,7 @@
 // geometry-reasoning issue): planar layers along one build direction.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -53,6 +54,10 @@ struct PlanOptions {
   // Every head point stays this far above the substrate and the table (the tip itself may touch
   // the plate: it deposits there). Tool axes are turned towards the table's normal until it does.
   double head_clearance_mm = 0.5;
+  // Set (by another thread) when the plan is no longer wanted: make_plan ends at its next stage
+  // (before a region is sliced, before sequencing, before the program) with kInfeasible
+  // "stopped". Null: it runs to its end.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 // Support check (SPEC §3): a layer's area outside the layer below grown by t·tan(α), where α is
