@@ -2,6 +2,8 @@
 // directions, volumes, support.
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include <algorithm>
 #include <cmath>
 
@@ -62,6 +64,25 @@ TEST(Decompose, LBlockSplitsAtThePlaneXEquals20) {
   EXPECT_EQ(rs[1].rule, "planar face");
   EXPECT_TRUE(rs[0].support_free);
   EXPECT_TRUE(rs[1].support_free);
+}
+
+// DecomposeOptions::stop: set, the decomposition ends before its first piece of work, as if its
+// budget were spent (the L-block keeps one region); unset, the same call splits it.
+TEST(Decompose, AStopSetEndsTheDecompositionAtItsNextPieceOfWork) {
+  const mesh::Mesh m = part("l_block");
+  const auto axis = polyline_axis({{10, 10, 1}, {10, 10, 20}, {10, 10, 50}, {45, 10, 50}}, 3);
+  std::atomic<bool> stop{true};
+  DecomposeOptions o;
+  o.stop = &stop;
+  auto stopped = decompose(m, axis, o);
+  ASSERT_TRUE(stopped.ok()) << stopped.error().message;
+  EXPECT_EQ(stopped.value().regions.size(), 1u);
+  EXPECT_TRUE(stopped.value().budget_exhausted);
+  stop = false;
+  auto whole = decompose(m, axis, o);
+  ASSERT_TRUE(whole.ok()) << whole.error().message;
+  EXPECT_EQ(whole.value().regions.size(), 2u);
+  EXPECT_FALSE(whole.value().budget_exhausted);
 }
 
 TEST(Decompose, PenRackBarBuildsAlongItsIncline) {

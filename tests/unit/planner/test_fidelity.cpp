@@ -2,6 +2,7 @@
 // difference between the deposited layers and the part, on parts whose answer is known.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <numbers>
 
@@ -35,6 +36,25 @@ Plan planned(const mesh::RepairedMesh& part, const process::ProcessConfig& proce
   auto plan = make_plan(part, s.machine, process, o);
   EXPECT_TRUE(plan.ok()) << (plan.ok() ? "" : plan.error().message);
   return std::move(plan.value());
+}
+
+// PlanOptions::stop: set, make_plan ends at its first stage with kInfeasible "stopped"; unset, the
+// same call plans the part. (Fidelity's plans are the nearest ready-made calls.)
+TEST(MakePlan, AStopSetEndsThePlanAtItsNextStage) {
+  const Configs s = defaults();
+  const mesh::RepairedMesh part = repaired(test::box({0, 0, 0}, {20, 14, 9}));
+  std::atomic<bool> stop{true};
+  PlanOptions o;
+  o.layers = LayerChoice::kPlanar;
+  o.stop = &stop;
+  auto stopped = make_plan(part, s.machine, s.process, o);
+  ASSERT_FALSE(stopped.ok());
+  EXPECT_EQ(stopped.error().code, core::ErrorCode::kInfeasible);
+  EXPECT_EQ(stopped.error().message, "stopped");
+  stop = false;
+  auto plan = make_plan(part, s.machine, s.process, o);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  EXPECT_FALSE(plan.value().program.empty());
 }
 
 // Walls along the build direction and flat ends: no staircase and nothing gained or lost, at any
