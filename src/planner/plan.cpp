@@ -151,19 +151,35 @@ core::Status guard_axes(Plan& plan, const machine::MachineConfig& machine, const
       // Both ends clear do not make the turn between them clear where a head circle crosses the
       // plate's edge: a point whose turn from its neighbour is not clear takes that one's axis
       // when it is clear there (forward, then backward for the path's first points).
-      auto take_neighbours = [&](std::size_t i, std::size_t from) {
+      // True when the move between the two is clear at the end (P's axis taken or not); P's axis
+      // changed sets TURNED.
+      auto take_neighbours = [&](std::size_t i, std::size_t from, bool& turned) {
         toolpath::PathPoint& p = path.points[i];
         const toolpath::PathPoint& q = path.points[from];
-        if (detail::move_clear(plan.build_model, options.head_clearance_mm, q.position_mm, q.tool_axis, p.position_mm, p.tool_axis)) return;
+        turned = false;
+        if (detail::move_clear(plan.build_model, options.head_clearance_mm, q.position_mm, q.tool_axis, p.position_mm, p.tool_axis)) return true;
         Vec3 axis = q.tool_axis;
         if (detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p.position_mm, layer.frame.d, axis) &&
             detail::move_clear(plan.build_model, options.head_clearance_mm, q.position_mm, q.tool_axis, p.position_mm, axis)) {
           p.tool_axis = axis;
           ++plan.axes_turned, ++paths[k].axes_turned;
+          turned = true;
+          return true;
         }
+        return false;
       };
-      for (std::size_t i = 1; i < path.points.size(); ++i) take_neighbours(i, i - 1);
-      for (std::size_t i = path.points.size(); i-- > 1;) take_neighbours(i - 1, i);
+      // Forward, the move into point i is left clear or not with both its ends as they stay (the
+      // pass turns only point i there); backward, a move found clear forward whose later end was
+      // not turned since is not checked again.
+      std::vector<char> clear_forward(path.points.size(), 0);
+      bool turned = false;
+      for (std::size_t i = 1; i < path.points.size(); ++i) clear_forward[i] = take_neighbours(i, i - 1, turned) ? 1 : 0;
+      bool later_turned = false;
+      for (std::size_t i = path.points.size(); i-- > 1;) {
+        if (clear_forward[i] && !later_turned) continue;
+        take_neighbours(i - 1, i, turned);
+        later_turned = turned;
+      }
       // Between two guarded points the axis turns along the way: where the head would come too
       // close in between, a guarded point is added at the middle (the path keeps its shape).
       std::vector<toolpath::PathPoint> refined;

@@ -12,7 +12,9 @@ namespace polyaxis::planner::detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kBisections = 30;  // 2^-30 of the turn: far below any axis resolution
+// 2^-18 of a turn of at most 180°: 0.0007°, below the resolution of a rotary axis (0.001°). The
+// bisection keeps the end that clears, so a coarser one turns the torch a little further, never less.
+constexpr int kBisections = 18;
 
 double angle(Vec3 a, Vec3 b) { return std::atan2(core::norm(core::cross(a, b)), core::dot(a, b)); }
 
