@@ -17,7 +17,8 @@ struct DepositCheck::Impl {
 
 namespace {
 
-// The deposit of POINTS as samples at most half a bead apart, and the count before each point.
+// The deposit of POINTS as samples at most half a bead apart (each place once), and the count
+// before each point.
 // The prebuilt body (OUT's first samples) comes before them all.
 std::vector<detail::MaterialSample> samples_of(const std::vector<PlannedPoint>& points, double bead_mm, std::vector<detail::MaterialSample> out,
                                                std::vector<std::uint32_t>& before) {
@@ -28,7 +29,9 @@ std::vector<detail::MaterialSample> samples_of(const std::vector<PlannedPoint>& 
     if (i == 0 || !points[i].deposit) continue;
     const core::Vec3 a = points[i - 1].tip, b = points[i].tip;
     const int pieces = std::max(1, static_cast<int>(std::ceil(core::norm(b - a) / step)));
-    for (int k = 0; k <= pieces; ++k) {
+    // A bead going on from the point before has its sample there already.
+    const bool goes_on = i > 1 && points[i - 1].deposit;
+    for (int k = goes_on ? 1 : 0; k <= pieces; ++k) {
       const core::Vec3 p = a + (b - a) * (static_cast<double>(k) / pieces);
       const auto stamp = static_cast<std::uint32_t>(out.size());
       out.push_back({{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)}, stamp, 0, 0});

@@ -14,6 +14,14 @@
 
 namespace polyaxis::verify::detail {
 namespace {
+// The upper case of an ASCII letter (the text is G-code: no locale applies).
+char ascii_upper(char ch) { return ch >= 'a' && ch <= 'z' ? static_cast<char>(ch - 'a' + 'A') : ch; }
+
+// Digits of a number read exactly as an integer (below 2^53) over a power of ten that is exact
+// as a double: then one division rounds correctly, as from_chars does.
+constexpr int kExactDigits = 15;
+constexpr int kExactPowers = 22;
+
 
 using core::ErrorCode;
 using core::make_error;
@@ -45,7 +53,7 @@ std::optional<std::vector<Word>> tokenize(std::string_view line, std::string& wh
       while (i < line.size() && (std::isdigit(static_cast<unsigned char>(line[i])) || line[i] == '.')) ++i;
       double v = 0.0;
       const char* first = line.data() + num + (num < line.size() && line[num] == '+' ? 1 : 0);
-      const auto [ptr, ec] = std::from_chars(first, line.data() + i, v);
+      const auto [ptr, ec] = read_number(first, line.data() + i, v);
       if (i == num || ec != std::errc() || ptr != line.data() + i || !std::isfinite(v) || std::abs(v) > kMaxWordMagnitude) {
         why = fmt::format("'{}' is not a tool vector component", line.substr(start, std::max<std::size_t>(i - start, 1)));
         return std::nullopt;
@@ -76,7 +84,7 @@ std::optional<std::vector<Word>> tokenize(std::string_view line, std::string& wh
       }
       double v = 0.0;
       const char* first = line.data() + num + (num < line.size() && line[num] == '+' ? 1 : 0);
-      const auto [ptr, ec] = std::from_chars(first, line.data() + i, v);
+      const auto [ptr, ec] = read_number(first, line.data() + i, v);
       if (digits == 0 || ec != std::errc() || ptr != line.data() + i || !std::isfinite(v)) {
         why = fmt::format("'{}' is not a letter followed by a number", line.substr(start, std::max<std::size_t>(i - start, 1)));
         return std::nullopt;
@@ -85,7 +93,7 @@ std::optional<std::vector<Word>> tokenize(std::string_view line, std::string& wh
         why = fmt::format("'{}' is beyond ±{:g}: no position or feed of a machine", line.substr(start, i - start), kMaxWordMagnitude);
         return std::nullopt;
       }
-      words.push_back({static_cast<char>(std::toupper(static_cast<unsigned char>(ch))), v, line.substr(start, i - start)});
+      words.push_back({ascii_upper(ch), v, line.substr(start, i - start)});
     } else {
       why = fmt::format("unexpected character '{}'", ch);
       return std::nullopt;
@@ -100,7 +108,7 @@ std::string block_text(const std::vector<Word>& words) {
   for (const Word& w : words) {
     if (!s.empty()) s += ' ';
     for (const char ch : w.text) {
-      if (ch != ' ' && ch != '\t') s += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+      if (ch != ' ' && ch != '\t') s += ascii_upper(ch);
     }
   }
   return s;
@@ -206,7 +214,9 @@ class GcodeWalker {
       layer_comment(line_, layer_, region_);
       return {};
     }
-    if (process_ != nullptr) {
+    // The block's text starts with its first word's letter: most blocks are no process switch.
+    const char head = ascii_upper(words->front().text.front());
+    if (process_ != nullptr && (head == process_head_[0] || head == process_head_[1])) {
       const std::string text = block_text(*words);
       if (text == process_->process_on) process_on_ = true;
       if (text == process_->process_off) process_on_ = false;
@@ -406,6 +416,9 @@ class GcodeWalker {
 
   const machine::MachineConfig& m_;
   const process::ProcessConfig* process_;
+  // The first characters of the process switches (block_text's, upper case; NUL for none).
+  const std::array<char, 2> process_head_ = {process_ && !process_->process_on.empty() ? ascii_upper(process_->process_on.front()) : '\0',
+                                             process_ && !process_->process_off.empty() ? ascii_upper(process_->process_off.front()) : '\0'};
   const WalkCallbacks& cb_;
   const bool five_ = machine::has_rotary_axes(m_.kind);
   const char tilt_ = machine::tilt_axis_letter(m_.kind);
@@ -427,6 +440,34 @@ class GcodeWalker {
 };
 
 }  // namespace
+
+std::from_chars_result read_number(const char* first, const char* last, double& out) {
+  static constexpr double kPowers[kExactPowers + 1] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                                       1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  const char* p = first;
+  const bool minus = p < last && *p == '-';
+  if (minus) ++p;
+  std::uint64_t mantissa = 0;
+  int significant = 0, decimals = 0;
+  bool point = false, digit = false;
+  for (; p < last; ++p) {
+    const char c = *p;
+    if (c == '.' && !point) {
+      point = true;
+      continue;
+    }
+    if (c < '0' || c > '9') break;
+    digit = true;
+    decimals += point ? 1 : 0;
+    if (mantissa == 0 && c == '0') continue;  // a leading zero is no significant digit
+    mantissa = mantissa * 10 + static_cast<std::uint64_t>(c - '0');
+    ++significant;
+  }
+  if (p != last || !digit || significant > kExactDigits || decimals > kExactPowers) return std::from_chars(first, last, out);
+  const double v = static_cast<double>(mantissa) / kPowers[decimals];
+  out = minus ? -v : v;
+  return {p, std::errc()};
+}
 
 core::Status walk_gcode(const machine::MachineConfig& m, std::string_view gcode, const process::ProcessConfig* process,
                         const WalkCallbacks& cb, bool* program_end_out) {

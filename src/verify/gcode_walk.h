@@ -5,6 +5,7 @@
 // process file's codes, dwells, and the "(layer N region R ...)" or "; layer N region R ..." comments.
 #pragma once
 
+#include <charconv>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -69,5 +70,10 @@ core::Status walk_toolpath_3mf(const machine::MachineConfig& machine, std::strin
 
 core::Status walk_gcode(const machine::MachineConfig& machine, std::string_view gcode, const process::ProcessConfig* process,
                         const WalkCallbacks& callbacks, bool* program_end);
+
+// [FIRST, LAST) as a number, exactly as std::from_chars reads it (the same value, end and error);
+// the commonest numbers of a program (an optional minus, at most 15 significant digits with at most
+// one point) several times faster, as an exact integer over an exact power of ten.
+std::from_chars_result read_number(const char* first, const char* last, double& out);
 
 }  // namespace polyaxis::verify::detail

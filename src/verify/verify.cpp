@@ -11,6 +11,7 @@
 #include <map>
 #include <functional>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "gcode_walk.h"
@@ -49,30 +50,31 @@ class DepositGrid {
     if (last_ == nullptr || k != last_key_) last_ = &cells_[k], last_key_ = k;
     last_->push_back({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
   }
-  // True when PRED holds for a stored point in the cells around P; the cell holding HINT (where
-  // a match is most likely) is searched first.
+  // A stored point in the cells around P for which PRED holds, none when there is none; the cell
+  // holding HINT (where a match is most likely) is searched first.
   template <typename Pred>
-  bool any(Vec3 p, Vec3 hint, Pred pred) const {
+  std::optional<Vec3> find(Vec3 p, Vec3 hint, Pred pred) const {
+    std::optional<Vec3> found;
     auto visit = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
       const auto it = cells_.find(key(x, y, z));
       if (it == cells_.end()) return false;
       for (const auto& q : it->second) {
-        if (pred(Vec3{q[0], q[1], q[2]})) return true;
+        if (const Vec3 v{q[0], q[1], q[2]}; pred(v)) return found = v, true;
       }
       return false;
     };
     const std::int64_t hx = cell(hint.x), hy = cell(hint.y), hz = cell(hint.z);
-    if (visit(hx, hy, hz)) return true;
+    if (visit(hx, hy, hz)) return found;
     const std::int64_t cx = cell(p.x), cy = cell(p.y), cz = cell(p.z);
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
           if (cx + dx == hx && cy + dy == hy && cz + dz == hz) continue;
-          if (visit(cx + dx, cy + dy, cz + dz)) return true;
+          if (visit(cx + dx, cy + dy, cz + dz)) return found;
         }
       }
     }
-    return false;
+    return found;
   }
 
  private:
@@ -377,15 +379,20 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
       out.first_problems.push_back(fmt::format("line {} (layer {} region {}): {}", line, layer, region, what));
     }
   };
-  auto grounded = [&](Vec3 tip, Vec3 n) {
+  // LAST: the point that grounded the sample before, tried first (consecutive samples along a
+  // bead mostly rest on the same one), and set to the one found.
+  auto grounded = [&](Vec3 tip, Vec3 n, std::optional<Vec3>& last) {
     const bool over_plate = tip.x >= plate.x_min_mm && tip.x <= plate.x_max_mm && tip.y >= plate.y_min_mm && tip.y <= plate.y_max_mm;
     const double above = tip.z - plate.top_z_mm;
     if (over_plate && above >= -kClearanceSlackMm && above <= h_max) return true;
-    return grid.any(tip, tip - n * (0.5 * h_max), [&](Vec3 q) {
+    auto under = [&](Vec3 q) {
       const Vec3 d = tip - q;
       const double h = core::dot(d, n);
       return h >= -kClearanceSlackMm && h <= h_max && core::norm(d - n * h) <= lateral_max;
-    });
+    };
+    if (last && under(*last)) return true;
+    last = grid.find(tip, tip - n * (0.5 * h_max), under);
+    return last.has_value();
   };
   auto end_layer = [&] {
     if (this_layer.empty()) return;
@@ -393,8 +400,11 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
     const Vec3 n = layer_normal(this_layer, spacing, &curved);
     // The grid is only read while a layer is checked: its samples in parallel.
     std::vector<char> ok(this_layer.size());
-    tbb::parallel_for(std::size_t{0}, this_layer.size(), [&](std::size_t i) {
-      ok[i] = grounded(this_layer[i].tip, curved ? core::normalized(this_layer[i].axis) : n) ? 1 : 0;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, this_layer.size()), [&](const tbb::blocked_range<std::size_t>& range) {
+      std::optional<Vec3> last;
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        ok[i] = grounded(this_layer[i].tip, curved ? core::normalized(this_layer[i].axis) : n, last) ? 1 : 0;
+      }
     });
     for (std::size_t i = 0; i < this_layer.size(); ++i) {
       if (ok[i]) continue;
