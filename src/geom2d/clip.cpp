@@ -2,6 +2,8 @@
 
 #include <polyclipping/clipper.hpp>
 
+#include "ring_nesting.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -22,21 +24,6 @@ Ring to_ring(const ClipperLib::Path& path) {
   return ring;
 }
 
-Point lowest(const Ring& ring) {
-  Point best = ring.front();
-  for (const Point& p : ring) {
-    if (p.y < best.y || (p.y == best.y && p.x < best.x)) best = p;
-  }
-  return best;
-}
-
-// Rotates RING so it starts at its lowest point: the same polygon always prints the same way.
-void canonical_start(Ring& ring) {
-  if (ring.empty()) return;
-  const Point start = lowest(ring);
-  std::rotate(ring.begin(), std::find(ring.begin(), ring.end(), start), ring.end());
-}
-
 std::vector<Polygon> from_tree(const ClipperLib::PolyTree& tree) {
   std::vector<Polygon> out;
   // Outer rings are the even-depth nodes; their children are holes.
@@ -46,25 +33,13 @@ std::vector<Polygon> from_tree(const ClipperLib::PolyTree& tree) {
     stack.pop_back();
     Polygon poly;
     poly.outer = to_ring(node->Contour);
-    if (twice_signed_area(poly.outer) < 0) std::reverse(poly.outer.begin(), poly.outer.end());
-    canonical_start(poly.outer);
     for (const ClipperLib::PolyNode* hole : node->Childs) {
-      Ring h = to_ring(hole->Contour);
-      if (twice_signed_area(h) > 0) std::reverse(h.begin(), h.end());
-      canonical_start(h);
-      poly.holes.push_back(std::move(h));
+      poly.holes.push_back(to_ring(hole->Contour));
       for (const ClipperLib::PolyNode* island : hole->Childs) stack.push_back(island);
     }
-    std::sort(poly.holes.begin(), poly.holes.end(), [](const Ring& a, const Ring& b) {
-      const Point pa = lowest(a), pb = lowest(b);
-      return pa.y != pb.y ? pa.y < pb.y : pa.x < pb.x;
-    });
     out.push_back(std::move(poly));
   }
-  std::sort(out.begin(), out.end(), [](const Polygon& a, const Polygon& b) {
-    const Point pa = lowest(a.outer), pb = lowest(b.outer);
-    return pa.y != pb.y ? pa.y < pb.y : pa.x < pb.x;
-  });
+  detail::finish_polygons(out);
   return out;
 }
 
@@ -124,6 +99,12 @@ std::vector<Polygon> union_impl(const std::vector<Ring>& rings, FillRule fill_ru
 }  // namespace
 
 std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_rule) {
+  // Sections of a clean mesh need no boolean (ring_nesting.h): the same polygons, without Clipper.
+  if (auto nested = detail::union_of_nested_rings(rings)) return std::move(*nested);
+  return detail::union_rings_by_clipper(rings, fill_rule);
+}
+
+std::vector<Polygon> detail::union_rings_by_clipper(const std::vector<Ring>& rings, FillRule fill_rule) {
   // Clipper's strictly-simple pass is quadratic in a ring's points: run it only when the plain
   // union left rings touching at a vertex, which sections of a clean mesh almost never do.
   std::vector<Polygon> result = union_impl(rings, fill_rule, false);

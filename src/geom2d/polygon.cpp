@@ -54,6 +54,8 @@ bool on_segment(Point a, Point b, Point p) {  // p collinear with a-b: is it wit
   return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y);
 }
 
+}  // namespace
+
 bool segments_touch(Point a, Point b, Point c, Point d) {
   const int o1 = orientation(a, b, c), o2 = orientation(a, b, d), o3 = orientation(c, d, a), o4 = orientation(c, d, b);
   if (o1 != o2 && o3 != o4 && o1 * o2 <= 0 && o3 * o4 <= 0) return true;
@@ -63,8 +65,6 @@ bool segments_touch(Point a, Point b, Point c, Point d) {
   if (o4 == 0 && on_segment(c, d, b)) return true;
   return false;
 }
-
-}  // namespace
 
 bool is_simple(const Ring& ring) {
   const std::size_t n = ring.size();

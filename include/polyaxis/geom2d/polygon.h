@@ -52,6 +52,9 @@ Centroid centroid(const std::vector<Polygon>& polygons);
 // Exact orientation of (a, b, c): +1 counter-clockwise, -1 clockwise, 0 collinear.
 int orientation(Point a, Point b, Point c);
 
+// True when the closed segments AB and CD share a point (exact).
+bool segments_touch(Point a, Point b, Point c, Point d);
+
 // True when no two non-adjacent edges of RING touch or cross and no two adjacent edges overlap
 // (exact predicates). O(n^2): meant for checks and tests.
 bool is_simple(const Ring& ring);
