@@ -50,8 +50,8 @@ bool clean(const Ring& ring) {
 
 // True when no two edges of RINGS share a point but adjacent edges of one ring their common
 // point: each edge entered in the cells of its box on a grid over BOX about as wide as an edge is
-// long (two edges sharing a point share that point's cell: the cell of a coordinate grows with
-// it), every pair of edges sharing a cell tested exactly. False too when that would take more than
+// long (two edges sharing a point share that point's cell), every pair of edges sharing a cell
+// tested exactly. False too when that would take more than
 // BUDGET tests or too many cell entries.
 bool edges_apart(const std::vector<Ring>& rings, const Box& box, std::size_t edges, std::size_t budget) {
   double extent = 0.0;
@@ -67,8 +67,11 @@ bool edges_apart(const std::vector<Ring>& rings, const Box& box, std::size_t edg
                                 std::sqrt(width * height / static_cast<double>(kCellsPerEdge * edges)),
                                 std::max(width, height) / static_cast<double>(kCellsPerEdge * edges)});
   const auto nx = static_cast<std::size_t>(width / side) + 1, ny = static_cast<std::size_t>(height / side) + 1;
-  auto column = [&](std::int64_t x) { return std::min(nx - 1, static_cast<std::size_t>((static_cast<double>(x) - static_cast<double>(box.x0)) / side)); };
-  auto row = [&](std::int64_t y) { return std::min(ny - 1, static_cast<std::size_t>((static_cast<double>(y) - static_cast<double>(box.y0)) / side)); };
+  // The cell of a coordinate grows with it (a product with a positive constant, rounded): two
+  // edges with a common point share that point's cell.
+  const double per_side = 1.0 / side;
+  auto column = [&](std::int64_t x) { return std::min(nx - 1, static_cast<std::size_t>((static_cast<double>(x) - static_cast<double>(box.x0)) * per_side)); };
+  auto row = [&](std::int64_t y) { return std::min(ny - 1, static_cast<std::size_t>((static_cast<double>(y) - static_cast<double>(box.y0)) * per_side)); };
   thread_local std::vector<std::uint32_t> head, next;
   thread_local std::vector<std::array<std::uint32_t, 2>> edge_of;  // entry -> (ring, index)
   thread_local std::vector<std::uint32_t> used;                    // cells with entries

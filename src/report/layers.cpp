@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
@@ -13,35 +14,60 @@ namespace {
 
 using nlohmann::ordered_json;
 
-// Coordinates are exact multiples of 1 nm: print them with 6 decimals, by hand (this is the hot
-// loop of writing layers.json).
-void append_mm(std::string& out, std::int64_t units) {
-  char buf[32];
-  char* end = buf + sizeof buf;
-  char* p = end;
-  const bool negative = units < 0;
-  std::uint64_t a = negative ? static_cast<std::uint64_t>(-(units + 1)) + 1 : static_cast<std::uint64_t>(units);
-  for (int i = 0; i < 6; ++i, a /= 10) *--p = static_cast<char>('0' + a % 10);
-  *--p = '.';
-  do {
-    *--p = static_cast<char>('0' + a % 10);
-    a /= 10;
-  } while (a != 0);
-  if (negative) *--p = '-';
-  out.append(p, static_cast<std::size_t>(end - p));
+// Coordinates are exact multiples of 1 nm: printed with 6 decimals, by hand, two digits at a time
+// (this is the hot loop of writing layers.json).
+constexpr char kDigitPairs[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
+// Writes UNITS (nm) as mm with 6 decimals at P; the end. At most kNumberChars characters.
+constexpr std::size_t kNumberChars = 22;
+char* write_mm(char* p, std::int64_t units) {
+  if (units < 0) *p++ = '-';
+  std::uint64_t a = units < 0 ? static_cast<std::uint64_t>(-(units + 1)) + 1 : static_cast<std::uint64_t>(units);
+  std::uint64_t whole = a / 1000000, fraction = a % 1000000;
+  char buf[24];
+  char* q = buf + sizeof buf;
+  while (whole >= 100) {
+    q -= 2;
+    std::memcpy(q, kDigitPairs + 2 * (whole % 100), 2);
+    whole /= 100;
+  }
+  if (whole >= 10) {
+    q -= 2;
+    std::memcpy(q, kDigitPairs + 2 * whole, 2);
+  } else {
+    *--q = static_cast<char>('0' + whole);
+  }
+  const auto n = static_cast<std::size_t>(buf + sizeof buf - q);
+  std::memcpy(p, q, n);
+  p += n;
+  *p++ = '.';
+  for (int k = 2; k >= 0; --k) {
+    std::memcpy(p + 2 * k, kDigitPairs + 2 * (fraction % 100), 2);
+    fraction /= 100;
+  }
+  return p + 6;
 }
 
+// A ring as [[x,y],...]: written in place into room reserved for its longest form.
 void append_ring(std::string& out, const geom2d::Ring& ring) {
-  out += '[';
+  const std::size_t at = out.size();
+  out.resize(at + 2 + ring.size() * (2 * kNumberChars + 4));
+  char* const start = out.data() + at;
+  char* p = start;
+  *p++ = '[';
   for (std::size_t i = 0; i < ring.size(); ++i) {
-    if (i) out += ',';
-    out += '[';
-    append_mm(out, ring[i].x);
-    out += ',';
-    append_mm(out, ring[i].y);
-    out += ']';
+    if (i) *p++ = ',';
+    *p++ = '[';
+    p = write_mm(p, ring[i].x);
+    *p++ = ',';
+    p = write_mm(p, ring[i].y);
+    *p++ = ']';
   }
-  out += ']';
+  *p++ = ']';
+  out.resize(at + static_cast<std::size_t>(p - start));
 }
 
 std::string vec(core::Vec3 v) { return fmt::format("[{:.9g},{:.9g},{:.9g}]", v.x, v.y, v.z); }
@@ -64,8 +90,19 @@ ordered_json summary(const slicing::SliceResult& r, const LayersMeta& meta) {
   return j;
 }
 
+// Bytes of a layer's head and of a point in layer_json (room for its longest form): reserved at
+// once, the string is not copied as it grows.
+constexpr std::size_t kLayerHeadBytes = 1024;
+constexpr std::size_t kPointBytes = 2 * kNumberChars + 4;
+
 std::string layer_json(const slicing::Layer& l) {
   std::string out;
+  std::size_t points = 0;
+  for (const geom2d::Polygon& p : l.polygons) {
+    points += p.outer.size();
+    for (const geom2d::Ring& h : p.holes) points += h.size();
+  }
+  out.reserve(kLayerHeadBytes + kPointBytes * points);
   fmt::format_to(std::back_inserter(out),
                  "{{\"index\":{},\"origin\":{},\"normal\":{},\"u\":{},\"v\":{},\"height_mm\":{:.9g},\"thickness_mm\":{:.9g},"
                  "\"thickness_range_mm\":[{:.9g},{:.9g}],\"below_mm\":{:.9g},\"above_mm\":{:.9g},\"area_mm2\":{:.9g},\"polygons\":[",
