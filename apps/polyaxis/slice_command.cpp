@@ -103,7 +103,10 @@ int run_slice(SliceCommandOptions& o) {
   std::filesystem::create_directories(o.out_dir, ec);
   if (ec) return report_error(core::make_error(core::ErrorCode::kOutput, fmt::format("{}: cannot create: {}", o.out_dir, ec.message())));
   const report::LayersMeta meta{o.part.path, o.slice};
-  if (auto s = io::write_file_atomic(o.out_dir + "/layers.json", report::layers_json(r, meta), io::Durability::kAtomic); !s) return report_error(s.error());
+  auto layers_file = io::AtomicFile::create(o.out_dir + "/layers.json");
+  if (!layers_file) return report_error(layers_file.error());
+  if (auto s = report::write_layers_json(layers_file.value(), r, meta); !s) return report_error(s.error());
+  if (auto s = layers_file.value().commit(io::Durability::kAtomic); !s) return report_error(s.error());
   if (o.svg) {
     for (const auto& layer : r.layers) {
       const std::string path = fmt::format("{}/layer_{:05d}.svg", o.out_dir, layer.index);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
 
 namespace polyaxis::report {
 namespace {
@@ -127,24 +128,65 @@ std::string layer_json(const slicing::Layer& l) {
 
 std::string slice_summary_json(const slicing::SliceResult& result, const LayersMeta& meta) { return summary(result, meta).dump(2); }
 
-std::string layers_json(const slicing::SliceResult& result, const LayersMeta& meta) {
+namespace {
+
+std::string layers_head(const slicing::SliceResult& result, const LayersMeta& meta) {
+  return "{\"summary\":" + summary(result, meta).dump() + ",\n\"layers\":[\n";
+}
+constexpr std::string_view kLayersTail = "\n]}\n";
+
+// Layers formatted together (in parallel with other blocks), and blocks in flight at once.
+constexpr std::size_t kBlockLayers = 16;
+constexpr std::size_t kBlocksInFlight = 8;
+
+// The layers of block B, each after ",\n" but the part's first.
+std::string layers_block(const slicing::SliceResult& result, std::size_t b) {
   std::string out;
-  out += "{\"summary\":";
-  out += summary(result, meta).dump();
-  out += ",\n\"layers\":[\n";
-  // Layers are formatted in parallel into their own strings, then joined in order: the bytes do
-  // not depend on the thread count.
-  std::vector<std::string> parts(result.layers.size());
-  tbb::parallel_for(std::size_t{0}, result.layers.size(), [&](std::size_t k) { parts[k] = layer_json(result.layers[k]); });
-  std::size_t total = out.size();
-  for (const auto& p : parts) total += p.size() + 2;
-  out.reserve(total + 8);
-  for (std::size_t k = 0; k < parts.size(); ++k) {
+  for (std::size_t k = b * kBlockLayers; k < std::min(result.layers.size(), (b + 1) * kBlockLayers); ++k) {
     if (k) out += ",\n";
-    out += parts[k];
+    out += layer_json(result.layers[k]);
   }
-  out += "\n]}\n";
   return out;
+}
+
+}  // namespace
+
+std::string layers_json(const slicing::SliceResult& result, const LayersMeta& meta) {
+  // Blocks are formatted in parallel into their own strings, then joined in order: the bytes do
+  // not depend on the thread count.
+  const std::size_t blocks = (result.layers.size() + kBlockLayers - 1) / kBlockLayers;
+  std::vector<std::string> parts(blocks);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) { parts[b] = layers_block(result, b); });
+  std::string out = layers_head(result, meta);
+  std::size_t total = out.size() + kLayersTail.size();
+  for (const auto& p : parts) total += p.size();
+  out.reserve(total);
+  for (const std::string& p : parts) out += p;
+  out += kLayersTail;
+  return out;
+}
+
+core::Status write_layers_json(io::AtomicFile& file, const slicing::SliceResult& result, const LayersMeta& meta) {
+  core::Status status = file.write(layers_head(result, meta));
+  const std::size_t blocks = (result.layers.size() + kBlockLayers - 1) / kBlockLayers;
+  std::size_t next = 0;
+  // Blocks are made side by side and written in order as they come: the bytes of layers_json.
+  tbb::parallel_pipeline(kBlocksInFlight,
+                         tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
+                                                             [&](tbb::flow_control& fc) -> std::size_t {
+                                                               if (next == blocks || !status) {
+                                                                 fc.stop();
+                                                                 return 0;
+                                                               }
+                                                               return next++;
+                                                             }) &
+                             tbb::make_filter<std::size_t, std::string>(tbb::filter_mode::parallel,
+                                                                        [&](std::size_t b) { return layers_block(result, b); }) &
+                             tbb::make_filter<std::string, void>(tbb::filter_mode::serial_in_order, [&](const std::string& bytes) {
+                               if (status) status = file.write(bytes);
+                             }));
+  if (!status) return status;
+  return file.write(kLayersTail);
 }
 
 std::string layer_svg(const slicing::Layer& layer, const toolpath::LayerToolpaths* paths) {

@@ -19,4 +19,27 @@ enum class Durability {
 // is refused, not replaced.
 core::Status write_file_atomic(const std::string& path, std::string_view bytes, Durability durability = Durability::kSynced);
 
+// The same for bytes made piece by piece (written as they come, while the rest is being made): a
+// temporary file beside PATH, renamed over PATH by commit(), removed when dropped uncommitted.
+// Errors are kOutput naming PATH; after one, write() and commit() fail again and change nothing.
+class AtomicFile {
+ public:
+  // Refuses an existing PATH that is not a regular file, as write_file_atomic does.
+  static core::Result<AtomicFile> create(const std::string& path);
+  AtomicFile(AtomicFile&& other) noexcept;
+  AtomicFile& operator=(AtomicFile&&) = delete;
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  ~AtomicFile();
+
+  core::Status write(std::string_view bytes);
+  core::Status commit(Durability durability = Durability::kSynced);
+
+ private:
+  AtomicFile(std::string path, std::string temporary, int fd) : path_(std::move(path)), temporary_(std::move(temporary)), fd_(fd) {}
+  core::Error fail(const char* what);  // removes the temporary file
+  std::string path_, temporary_;
+  int fd_ = -1;  // -1 once committed or failed
+};
+
 }  // namespace polyaxis::io

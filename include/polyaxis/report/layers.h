@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "polyaxis/io/write_file.h"
 #include "polyaxis/slicing/slice.h"
 #include "polyaxis/toolpath/toolpath.h"
 
@@ -18,6 +19,9 @@ struct LayersMeta {
 // [[u, v], ...], "holes": [[[u, v], ...], ...]}]}], "summary": {...}}. Coordinates in mm with
 // 6 decimals (the 1 nm grid). Deterministic: the same layers give the same bytes.
 std::string layers_json(const slicing::SliceResult& result, const LayersMeta& meta);
+// The same bytes into FILE as they are made (blocks of layers formatted side by side, written in
+// order while later ones are formatted); the caller commits FILE. Errors are FILE's.
+core::Status write_layers_json(io::AtomicFile& file, const slicing::SliceResult& result, const LayersMeta& meta);
 
 // The summary object printed by `polyaxis slice --json`: layers, total_area_mm2,
 // volume_estimate_mm3, min/max thickness, open_chains, limit_violations.

@@ -7,6 +7,12 @@
 #include <cmath>
 
 #include <tbb/task_arena.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/io/read_part.h"
@@ -151,6 +157,32 @@ TEST(Slice, OutputBytesDoNotDependOnThreadCount) {
     if (first.empty()) first = bytes;
     EXPECT_EQ(bytes, first) << threads << " threads";
   }
+}
+
+// layers.json written as it is made (write_layers_json) is layers_json's bytes, at any thread count.
+TEST(Slice, StreamedLayersJsonIsTheSameBytes) {
+  const mesh::Mesh m = part("impeller");
+  SliceOptions o;
+  o.direction = {0.2, 0.1, 1};
+  o.layer_mm = 0.3;
+  auto r = slice(m, o);
+  ASSERT_TRUE(r.ok());
+  ASSERT_GT(r.value().layers.size(), 100u);  // several blocks of layers
+  const std::string expected = report::layers_json(r.value(), {"impeller", o});
+  const std::string path = (std::filesystem::temp_directory_path() / ("polyaxis_streamed_" + std::to_string(::getpid()) + ".json")).string();
+  for (int threads : {1, 3}) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      auto file = io::AtomicFile::create(path);
+      ASSERT_TRUE(file);
+      ASSERT_TRUE(report::write_layers_json(file.value(), r.value(), {"impeller", o}));
+      ASSERT_TRUE(file.value().commit(io::Durability::kAtomic));
+    });
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(bytes, expected) << threads << " threads";
+  }
+  std::filesystem::remove(path);
 }
 
 // A mesh large enough that faces are bucketed into layers in several parts (one per thread of the
