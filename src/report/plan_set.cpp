@@ -77,9 +77,10 @@ core::Status write_plan_files(const PlanFilesOptions& o, const PlanSet& plan_set
   };
   PlanView view = make_plan_view(plan, machine, process, job.axis ? &*job.axis : nullptr, meta.part, plan_set.report_json, &job.check);
   // plan.json leaves out the machine playback of report.html (the program as its controller reads
-  // it): the two are made side by side.
-  std::string plan_json;
-  std::optional<core::Result<std::vector<verify::PlaybackFrame>>> frames;
+  // it): plan.json is made on one side, the playback and then report.html on the other. The
+  // playback is a member plan_view_json does not read.
+  std::string plan_json, html;
+  std::optional<core::Error> html_error;
   const auto scope = core::ProgressScope::current();  // each side may run on a worker thread
   tbb::parallel_invoke(
       [&] {
@@ -88,17 +89,18 @@ core::Status write_plan_files(const PlanFilesOptions& o, const PlanSet& plan_set
       },
       [&] {
         const core::ProgressScope inner(scope);
-        if (o.html) frames.emplace(verify::playback_frames(machine, process, job.gcode));
+        if (!o.html) return;
+        auto frames = verify::playback_frames(machine, process, job.gcode);
+        if (!frames) return html_error.emplace(frames.error()), void();
+        view.playback = ViewPlayback{machine, std::move(frames.value())};
+        html = report_html(view, viewer_bundle());
       });
-  if (frames) {
-    if (!*frames) return frames->error();
-    view.playback = ViewPlayback{machine, std::move(frames->value())};
-  }
+  if (html_error) return *html_error;
   if (auto s = add("plan.json", plan_json, io::Durability::kAtomic); !s) return s;
   if (auto s = add("report.json", plan_set.report_json, io::Durability::kAtomic); !s) return s;
   if (auto s = add("timings.json", timings_json(plan, meta), io::Durability::kAtomic); !s) return s;
   if (o.html) {
-    if (auto s = add("report.html", report_html(view, viewer_bundle()), io::Durability::kAtomic); !s) return s;
+    if (auto s = add("report.html", html, io::Durability::kAtomic); !s) return s;
   }
   if (o.svg) {
     for (std::size_t k = 0; k < plan.layers.layers.size(); ++k) {
