@@ -1,4 +1,6 @@
-// Polygon booleans and offsets on integer polygons, through Clipper (polyclipping 6.4).
+// Polygon booleans and offsets on integer polygons, through Clipper (polyclipping 6.4); a union
+// that needs no boolean (the sections of a clean mesh) is made without it, the same polygons
+// point for point (src/geom2d/ring_nesting.h).
 #pragma once
 
 #include <vector>
