@@ -56,6 +56,8 @@ constexpr int kMaxPatchSplits = 12;
 constexpr std::size_t kMaxPatchesPerRegion = 4;
 // Cosines closer than this are a tie (about 0.1° near 0°, 1e-6 in general).
 constexpr double kSameCos = 1e-6;
+// Of two children, one whose surface is smaller by more than this share is the smaller.
+constexpr double kClearlySmallerShare = 0.1;
 // A cut along a planar face of the part is moved this far into the child, mm: corefinement of a
 // plane with coplanar facets of an already cut region can fail to end (CGAL clip), and the parent
 // keeps only a film this thin of the child (its faces far below kUnsupportedNoiseMm2).
@@ -69,12 +71,18 @@ struct Candidate {
 
 // Whether the split removing GAIN_A mm² of overhang with candidate A (of link DIR_A) beats B: more
 // overhang removed (beyond the noise), then Ruan's splitting faces before planes across the axis,
-// then the plane most nearly across its link (Ruan's criterion 1), then the child built closest to
-// its base's normal (flat first layers).
+// then the child that takes clearly less of the part's surface (a plane that cuts the branch off
+// where it leaves its father, not one that also takes a slab of the father: a link's direction
+// bends towards the father's axis, and the plane across it can run down through the father to the
+// plate), then the plane most nearly across its link (Ruan's criterion 1), then the child built
+// closest to its base's normal (flat first layers).
 bool preferred(double gain_a, const Candidate& a, Vec3 dir_a, double gain_b, const Candidate& b, Vec3 dir_b) {
   if (std::fabs(gain_a - gain_b) > kUnsupportedNoiseMm2) return gain_a > gain_b;
   const bool face_a = a.rule == "planar face", face_b = b.rule == "planar face";
   if (face_a != face_b) return face_a;
+  const double area_a = a.screened.child_area_mm2, area_b = b.screened.child_area_mm2;
+  if (area_a < (1.0 - kClearlySmallerShare) * area_b) return true;
+  if (area_b < (1.0 - kClearlySmallerShare) * area_a) return false;
   const double across_a = std::fabs(core::dot(a.normal, dir_a)), across_b = std::fabs(core::dot(b.normal, dir_b));
   if (std::fabs(across_a - across_b) > kSameCos) return across_a > across_b;
   return core::dot(a.screened.child_direction, a.normal) > core::dot(b.screened.child_direction, b.normal) + kSameCos;

@@ -226,6 +226,33 @@ Decomposed plan_decomposed(const std::string& name, const std::string& extra, co
   return d;
 }
 
+// Tees of our own (a column with a bar across its top, two sizes), with defaults: each arm is cut
+// off at the column's face and built straight out, so the plan is decomposed, support-free and
+// reads back clean. With the arms cut by the plane across their leaning links, each arm's region
+// took a slab of the column down to the plate, the head struck the column beside it, and auto fell
+// back to one direction with the arms' undersides unsupported.
+TEST(PlanDecomposed, TeesAreCutAtTheColumnAndReadBackClean) {
+  TempDir dir;
+  struct Size {
+    double half_width, height, arm, bar;
+  };
+  for (const Size s : {Size{5.0, 38.0, 20.0, 8.0}, Size{7.0, 46.0, 24.0, 10.0}}) {
+    const double w = s.half_width, a = w + s.arm, low = s.height - s.bar;
+    const auto out = dir / fmt::format("tee_{}", w);
+    std::filesystem::create_directories(out);
+    const auto part = out / "tee.stl";
+    std::ofstream(part, std::ios::binary) << binary_stl(prism_xz({{-w, 0}, {w, 0}, {w, low}, {a, low}, {a, s.height}, {-a, s.height}, {-a, low}, {-w, low}}, 12.0));
+    const auto plan = run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html");
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_EQ(report["strategy"].get<std::string>(), "decompose") << report["strategy_reason"];
+    EXPECT_EQ(report["regions"].get<int>(), 3);
+    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+    EXPECT_EQ(report["collisions"].get<int>(), 0);
+    check_readback(out, "tee");
+  }
+}
+
 TEST(PlanDecomposed, FiveWallsWhoseOnlyDecompositionCollidesExitFourNamingThePlace) {
   // On a plate reaching under the walls (120 mm square) the default head (a cylinder of radius
   // 25 mm 20 mm above the tip) cannot lay the walls' lowest corners, 5 mm above it: tilted up

@@ -202,5 +202,39 @@ TEST(DecomposeGenerated, ArmOverAPostLeavesTheParentOneSolid) {
   EXPECT_GE(ids[1], 1);
 }
 
+// A T: a column with a bar across its top reaching out both sides (other widths, heights and arm
+// lengths). The arms' links lean towards the column's axis, so the plane across a link runs down
+// through the column to the plate; the plane at the column's face removes the same overhang and
+// takes only the arm. Each arm is cut there: its region is the arm alone, built straight out.
+struct TeeSize {
+  double half_width, height, arm, bar;  // column half-width (x), column height, arm length, bar height
+};
+class Tee : public ::testing::TestWithParam<TeeSize> {};
+
+TEST_P(Tee, EachArmIsCutAtTheColumnsFace) {
+  const TeeSize t = GetParam();
+  constexpr double kDepth = 12.0;  // along y
+  const auto part = repaired(polyaxis::test::mesh_union(
+      polyaxis::test::box({-t.half_width, -kDepth / 2, 0}, {t.half_width, kDepth / 2, t.height}),
+      polyaxis::test::box({-t.half_width - t.arm, -kDepth / 2, t.height - t.bar}, {t.half_width + t.arm, kDepth / 2, t.height})));
+  const RegionTree tree = pipeline(part);
+  ASSERT_EQ(tree.regions.size(), 3u);
+  expect_partition(tree, part.mesh);
+  expect_support_free(tree);
+  const auto ids = match_directions(tree, {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}});
+  EXPECT_EQ(ids[0], 0);
+  const double arm_volume = t.arm * kDepth * t.bar;
+  for (const int id : {ids[1], ids[2]}) {
+    ASSERT_GE(id, 1);
+    EXPECT_NEAR(tree.regions[static_cast<std::size_t>(id)].volume_mm3, arm_volume, 0.01 * arm_volume) << id;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, Tee,
+                         ::testing::Values(TeeSize{5.0, 38.0, 20.0, 8.0}, TeeSize{7.0, 45.0, 25.0, 10.0}, TeeSize{4.0, 30.0, 16.0, 6.0}),
+                         [](const ::testing::TestParamInfo<TeeSize>& i) {
+                           return "column" + std::to_string(static_cast<int>(2 * i.param.half_width)) + "_arm" + std::to_string(static_cast<int>(i.param.arm));
+                         });
+
 }  // namespace
 }  // namespace polyaxis::analysis::test
