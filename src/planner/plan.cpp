@@ -414,6 +414,7 @@ void finish_program(Plan& plan, const machine::MachineConfig& machine, const pro
   plan.reorientation_list.clear();
   make_program(plan, machine, process, options, deposit);
   if (plan.program.empty()) return;
+  detail::keep_travel_within_reach(plan.program, detail::reach_rad(machine));
   plan.program = detail::insert_c_unwinds(plan.program, plan.layers.layers, machine);
   count_reorientations(plan);
 }

@@ -15,6 +15,11 @@ constexpr double kPi = 3.14159265358979323846;
 // 2^-18 of a turn of at most 180°: 0.0007°, below the resolution of a rotary axis (0.001°). The
 // bisection keeps the end that clears, so a coarser one turns the torch a little further, never less.
 constexpr int kBisections = 18;
+// An arc that passes the reach by less than this keeps within it (rounding), radians.
+constexpr double kReachSlackRad = 1e-9;
+// Axes turned round within the reach keep this far inside it, and turn at most this far a step, radians.
+constexpr double kReachInsideRad = 0.05 * kPi / 180.0;
+constexpr double kReachStepRad = 1.0 * kPi / 180.0;
 
 double angle(Vec3 a, Vec3 b) { return std::atan2(core::norm(core::cross(a, b)), core::dot(a, b)); }
 
@@ -31,6 +36,72 @@ Vec3 slerp(Vec3 a, Vec3 b, double u) {
 }
 
 }  // namespace
+
+double max_tilt_on_arc_rad(Vec3 a, Vec3 b) {
+  a = core::normalized(a), b = core::normalized(b);
+  const double w = angle(a, b);
+  double min_z = std::min(a.z, b.z);
+  const Vec3 side = b - a * core::dot(a, b);  // towards B, perpendicular to A
+  if (w > 1e-12 && core::norm(side) > 1e-12) {
+    // z along the arc: a.z·cos θ + c.z·sin θ = r·cos(θ − φ), least at θ = φ + π when that is on it.
+    const Vec3 c = core::normalized(side);
+    const double r = std::hypot(a.z, c.z), phi = std::atan2(c.z, a.z);
+    double low = phi + kPi;
+    while (low > w) low -= 2.0 * kPi;
+    while (low < 0.0) low += 2.0 * kPi;
+    if (low <= w) min_z = std::min(min_z, -r);
+  }
+  return std::acos(std::clamp(min_z, -1.0, 1.0));
+}
+
+std::vector<Vec3> axes_within_reach(Vec3 a, Vec3 b, double reach_rad) {
+  a = core::normalized(a), b = core::normalized(b);
+  if (max_tilt_on_arc_rad(a, b) <= reach_rad + kReachSlackRad) return {};
+  const double ta = std::acos(std::clamp(a.z, -1.0, 1.0)), tb = std::acos(std::clamp(b.z, -1.0, 1.0));
+  const double pa = std::atan2(a.y, a.x), pb = std::atan2(b.y, b.x);
+  double dp = pb - pa;
+  while (dp > kPi) dp -= 2.0 * kPi;
+  while (dp < -kPi) dp += 2.0 * kPi;
+  // Between the ends the tilt stays a little inside the reach, so that the short great-circle steps
+  // (which dip by under 0.001° at 1°) do not pass it; the ends come in and go out along their
+  // meridians, which do not dip.
+  const double cap = reach_rad - kReachInsideRad;
+  auto axis_at = [](double t, double p) { return Vec3{std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)}; };
+  std::vector<Vec3> out;
+  if (ta > cap) out.push_back(axis_at(cap, pa));
+  // The turn on the sphere is at most |Δtilt| + |Δazimuth|.
+  const auto n = static_cast<int>(std::ceil((std::abs(tb - ta) + std::abs(dp)) / kReachStepRad));
+  for (int k = 1; k < n; ++k) {
+    const double u = static_cast<double>(k) / n;
+    out.push_back(axis_at(std::min(ta + (tb - ta) * u, cap), pa + dp * u));
+  }
+  if (tb > cap) out.push_back(axis_at(cap, pb));
+  return out;
+}
+
+void keep_travel_within_reach(std::vector<post::ProgramPoint>& program, double reach_rad) {
+  if (reach_rad <= 0.0 || program.empty()) return;
+  std::vector<post::ProgramPoint> out;
+  out.reserve(program.size());
+  out.push_back(program.front());
+  for (std::size_t i = 1; i < program.size(); ++i) {
+    const post::ProgramPoint& p = program[i];
+    if (!p.process_on) {
+      const post::ProgramPoint from = out.back();
+      const std::vector<Vec3> axes = axes_within_reach(from.tool_axis_part, p.tool_axis_part, reach_rad);
+      for (std::size_t k = 0; k < axes.size(); ++k) {
+        post::ProgramPoint w = p;
+        const double u = static_cast<double>(k + 1) / static_cast<double>(axes.size() + 1);
+        w.tip_part_mm = from.tip_part_mm + (p.tip_part_mm - from.tip_part_mm) * u;
+        w.tool_axis_part = axes[k];
+        w.comment_if_new_block = k == 0 ? "turning within the tilt's reach" : "";
+        out.push_back(std::move(w));
+      }
+    }
+    out.push_back(p);
+  }
+  program = std::move(out);
+}
 
 double reach_rad(const machine::MachineConfig& m) {
   if (!machine::has_rotary_axes(m.kind)) return 0.0;

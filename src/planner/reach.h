@@ -10,6 +10,7 @@
 #include "polyaxis/machine/build_model.h"
 #include "polyaxis/machine/machine.h"
 #include "polyaxis/planner/plan.h"
+#include "polyaxis/post/program.h"
 
 namespace polyaxis::planner::detail {
 
@@ -46,6 +47,23 @@ bool guard_axis(const machine::MachineConfig& machine, const machine::BuildModel
 // 2° of turn and every millimetre (and at both ends). Both ends clear do not make the move clear
 // where a head circle's disc crosses the plate's edge. Cost: one clearance evaluation per sample.
 bool move_clear(const machine::BuildModel& model, double clearance_mm, Vec3 tip_from, Vec3 from, Vec3 tip_to, Vec3 to);
+
+// The largest angle from the table's +Z along the great circle from unit A to unit B (the axis's
+// path on a move; not opposite), radians.
+double max_tilt_on_arc_rad(Vec3 a, Vec3 b);
+
+// The axes strictly between unit A and unit B, about 1° apart, along which the tool turns from A
+// to B with every great-circle step within REACH_RAD of +Z: none when the great circle from A to B
+// keeps within it; else the tilt and the azimuth about +Z each interpolated evenly (the path of
+// the rotary axes themselves, C the short way round), the tilt held 0.05° inside the reach. Two
+// axes below the horizon at distant azimuths need this: the great circle between them dips
+// towards −Z.
+std::vector<Vec3> axes_within_reach(Vec3 a, Vec3 b, double reach_rad);
+
+// Process-off moves of PROGRAM along which the tool axis would pass beyond REACH_RAD of +Z on its
+// great circle turn through axes_within_reach instead, the tip moving evenly along the move (the
+// inserted points are copies of the move's end with the tip and the axis between). 0 leaves it.
+void keep_travel_within_reach(std::vector<post::ProgramPoint>& program, double reach_rad);
 
 // kMachineLimit naming the first placed region that cannot be reached along its own build
 // direction at a corner of its bounding box (table frame): the linear travel, before slicing.

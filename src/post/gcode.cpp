@@ -398,7 +398,11 @@ class ProgramWriter {
     const ProgramPoint& from = points_[i - 1];
     const ProgramPoint& pt = points_[i];
     auto poses = machine::subdivide(m_, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, prev_, tol_);
-    if (!poses) return make_error(poses.error().code, fmt::format("{}: {}", where.str(), end_stop_or(m_, prev_, pt, poses.error().message)));
+    if (!poses) {
+      return make_error(poses.error().code, fmt::format("{} from axis ({:.4f}, {:.4f}, {:.4f}) at ({:.4f}, {:.4f}, {:.4f}): {}", where.str(),
+                                                        from.tool_axis_part.x, from.tool_axis_part.y, from.tool_axis_part.z, from.tip_part_mm.x,
+                                                        from.tip_part_mm.y, from.tip_part_mm.z, end_stop_or(m_, prev_, pt, poses.error().message)));
+    }
     if (o_.split_stalls && pt.process_on && stalls(m_, prev_, poses.value(), pt.feed_mm_s) && singular(prev_) && !poses.value().empty()) {
       // Leaving the pole, C swings to the move's own: turn C alone in place with the process off
       // (the tool stays along C, so the tip and the axis hold), then tilt along the bead as planned.
