@@ -442,8 +442,8 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
     why = "the part's regions, each along its own direction (--strategy decompose)";
     return plan_decomposed(part, machine, process, o, o.root_base);
   }
-  // Auto: one direction; then the decomposition rooted as asked, at the lowest point, and with the
-  // part turned over; the best that succeeds.
+  // Auto: one direction; then the decomposition rooted as asked, at the lowest point; then with the
+  // part turned over, one direction and the decomposition; the best that succeeds.
   std::vector<std::string> refused;
   std::optional<Candidate> best;
   std::string best_label;
@@ -494,6 +494,9 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
       lowest.kind = analysis::RootBase::Kind::kLowest;
       consider(plan_decomposed(part, machine, process, o, lowest), "the decomposition from the lowest point");
     }
+    // Turned over, one direction first: a part whose top is its widest face (a table on its legs)
+    // stands on that face without support, in one region.
+    if (!done()) consider(plan_single(part, machine, process, over), "one build direction turned over");
     if (!done()) {
       consider(over_early ? std::move(*over_early) : plan_decomposed(part, machine, process, over, o.root_base), "the decomposition turned over");
     }

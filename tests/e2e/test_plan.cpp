@@ -253,6 +253,34 @@ TEST(PlanDecomposed, TeesAreCutAtTheColumnAndReadBackClean) {
   }
 }
 
+// Bridges of our own (a slab on two legs, two sizes), with defaults: upright, the slab's underside
+// between the legs hangs, and no decomposition holds it (the regions under the slab would reach
+// below the plate or bring the head down to it); turned over, the slab lies on the plate and the
+// legs rise from it, support-free in one region. Auto takes that, and says so.
+TEST(PlanTurnedOver, BridgesStandOnTheirSlabInOneRegion) {
+  TempDir dir;
+  struct Size {
+    double leg, span, height, slab, depth;
+  };
+  for (const Size s : {Size{6.0, 48.0, 40.0, 5.0, 40.0}, Size{8.0, 70.0, 30.0, 6.0, 30.0}}) {
+    const double w = 2.0 * s.leg + s.span, top = s.height + s.slab;
+    const auto out = dir / fmt::format("bridge_{}", s.span);
+    std::filesystem::create_directories(out);
+    const auto part = out / "bridge.stl";
+    std::ofstream(part, std::ios::binary) << binary_stl(
+        prism_xz({{0, 0}, {s.leg, 0}, {s.leg, s.height}, {s.leg + s.span, s.height}, {s.leg + s.span, 0}, {w, 0}, {w, top}, {0, top}}, s.depth));
+    const auto plan = run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html");
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_EQ(report["strategy"].get<std::string>(), "single");
+    EXPECT_EQ(report["strategy_reason"].get<std::string>().rfind("one build direction turned over", 0), 0u) << report["strategy_reason"];
+    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+    EXPECT_EQ(report["collisions"].get<int>(), 0);
+    EXPECT_NEAR(read_json(out / "plan.json")["placement_rotation"][2][2].get<double>(), -1.0, 1e-12);  // the part's +Z down
+    check_readback(out, "bridge");
+  }
+}
+
 TEST(PlanDecomposed, FiveWallsWhoseOnlyDecompositionCollidesExitFourNamingThePlace) {
   // On a plate reaching under the walls (120 mm square) the default head (a cylinder of radius
   // 25 mm 20 mm above the tip) cannot lay the walls' lowest corners, 5 mm above it: tilted up

@@ -89,10 +89,11 @@ TEST(PlanHeadHead, RegionsTurnOffVerticalOnlyAsFarAsTheProcessDeposits) {
     check_readback(dir.path(), "l_block", false, nullptr, head_machine());
   }
   {
-    // 80 deg: the arm leans that far (and no further) and is support-free.
+    // 80 deg: the arm leans that far (and no further) and is support-free. (Auto turns the L over
+    // instead: the arm on the plate, the column rising from it, one region upright.)
     TempDir dir;
-    const auto r = run_cli(fmt::format("plan '{}' --no-html --machine '{}' --set process.off_vertical_max_deg=80 -o '{}'", part,
-                                       head_machine().string(), dir.path().string()));
+    const auto r = run_cli(fmt::format("plan '{}' --strategy decompose --no-html --machine '{}' --set process.off_vertical_max_deg=80 -o '{}'",
+                                       part, head_machine().string(), dir.path().string()));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto plan = read_json(dir / "plan.json");
     const auto report = read_json(dir / "report.json");
