@@ -19,6 +19,10 @@ constexpr double kReversedAxisRad = 1e-6;
 constexpr double kLastPieceShare = 0.5;
 // Leaving the singular axis, C is read where the tilt is this many times the singular limit.
 constexpr double kLeavePoleTilts = 16.0;
+// An axis this close to a pole (radians), though off it, has an azimuth too ill-conditioned to
+// follow: a move ending (or starting) there goes through the pole. The tip turns less than
+// 0.0001 mm per mm from the C axis when C swings there.
+constexpr double kAlmostPoleRad = 1e-4;
 
 Vec3 lerp(Vec3 a, Vec3 b, double s) { return a + (b - a) * s; }
 
@@ -148,6 +152,26 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
       auto first = subdivide(machine, p0, t0, pm, pole, start, chordal_mm);
       if (!first) return first.error();
       auto second = subdivide(machine, pm, pole, p1, t1, first.value().back(), chordal_mm);
+      if (!second) return second.error();
+      first.value().insert(first.value().end(), second.value().begin(), second.value().end());
+      return first;
+    }
+  }
+  if (has_rotary_axes(machine.kind)) {
+    // An end within kAlmostPoleRad of a pole but off it (tilt above kSingularTiltRad), the other
+    // end off the pole too: that end's C is the azimuth of a tilt of microradians, which may be far
+    // from the C the move has at the other end, and C would have to swing in a piece too short for
+    // any step. The move goes through the pole itself instead: arriving, C is held there; leaving,
+    // C turns in place first (below). Each leg has an end on the pole, so neither splits again.
+    for (const Vec3 pole : {Vec3{0, 0, 1}, Vec3{0, 0, -1}}) {
+      const double e0 = std::atan2(norm(cross(t0, pole)), dot(t0, pole)), e1 = std::atan2(norm(cross(t1, pole)), dot(t1, pole));
+      auto almost = [](double e) { return e >= kSingularTiltRad && e < kAlmostPoleRad; };
+      const bool split_at_end = almost(e1) && e0 >= kSingularTiltRad, split_at_start = almost(e0) && e1 >= kSingularTiltRad;
+      if (!split_at_end && !split_at_start) continue;
+      const Vec3 pm = split_at_end ? p1 : p0;
+      auto first = subdivide(machine, p0, t0, pm, pole, start, chordal_mm);
+      if (!first) return first.error();
+      auto second = subdivide(machine, pm, pole, p1, t1, first.value().empty() ? start : first.value().back(), chordal_mm);
       if (!second) return second.error();
       first.value().insert(first.value().end(), second.value().begin(), second.value().end());
       return first;

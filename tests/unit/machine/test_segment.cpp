@@ -154,3 +154,58 @@ TEST(Subdivide, ReversedAxisIsInfeasible) {
 
 }  // namespace
 }  // namespace polyaxis::machine
+
+namespace polyaxis::machine {
+namespace {
+
+// Regression (cyl_walls5 with its walls tilted up, the transit over the top of the sphere): a move
+// from 0.8° off vertical to an axis 1.02e-6 rad off it (just above kSingularTiltRad) at another
+// azimuth. C at the end is the azimuth of that tiny tilt, 53° from the C the move arrives with, and
+// no piece, however short, turned C by at most 5°: the writer refused the plan. The move now goes
+// through the pole itself, where C is held, and turns C there in place.
+TEST(Subdivide, EndingJustOffThePoleAtAnotherAzimuthGoesThroughThePole) {
+  const MachineConfig m = machine(Kinematics::kTableTiltA_RotaryC);
+  const Vec3 p0{-3.5646121072314287e-05, 0.79280344289992633, 87.201345542487928};
+  const Vec3 t0{-6.2310943015249613e-07, 0.013858542996196961, 0.99990396578153162};
+  const Vec3 p1{4.684491186849872e-05, 3.484629373458893e-05, 87.206839356566803};
+  const Vec3 t1{8.1886907921084055e-07, 6.0912810647300269e-07, 0.99999999999947919};
+  const MachinePose start{1.451906628778532e-14, 1.5244397311225635, 87.196275592565058, -0.79406144387141697, -18540.002576139534};
+  for (const bool reversed : {false, true}) {
+    SCOPED_TRACE(reversed);
+    const Vec3 a = reversed ? p1 : p0, ta = reversed ? t1 : t0, b = reversed ? p0 : p1, tb = reversed ? t0 : t1;
+    MachinePose from = start;
+    if (reversed) {
+      auto at = inverse(m, a, ta, &start);
+      ASSERT_TRUE(at.ok());
+      from = at.value();
+    }
+    auto poses = subdivide(m, a, ta, b, tb, from, 0.008);
+    ASSERT_TRUE(poses.ok()) << poses.error().message;
+    MachinePose prev = from;
+    for (const MachinePose& p : poses.value()) {
+      for (const double u : {0.1, 0.5, 0.9}) EXPECT_LE(distance_to_segment(forward(m, lerp(prev, p, u)).tip_part_mm, a, b), 0.008);
+      EXPECT_LE(std::abs(p.c_deg - prev.c_deg), kMaxRotaryStepDeg + 1e-9);
+      prev = p;
+    }
+    const MachineToolPose end = forward(m, poses.value().back());
+    EXPECT_LT(norm(end.tip_part_mm - b), 1e-9);
+    EXPECT_LT(norm(end.tool_axis_part - normalized(tb)), 1e-9);
+  }
+  // Over the top of the sphere, both ends just off the pole at azimuths 138° apart.
+  const Vec3 q0{-3.5149473325594653e-05, 7.3887873745129816e-05, 87.206839356538069};
+  const Vec3 u0{-6.1442781529131135e-07, 1.2915916099568559e-06, 0.99999999999897715};
+  const Vec3 q1{5.9341186430173538e-05, -2.5541045868811741e-05, 87.206839356560124};
+  const Vec3 u1{1.0373092989856087e-06, -4.4646839706704706e-07, 0.9999999999993624};
+  const MachinePose over{3.028989819381378e-18, -0.00015733193626243407, 87.206839356484096, 8.1949599367834712e-05, -18385.441072776594};
+  auto poses = subdivide(m, q0, u0, q1, u1, over, 0.008);
+  ASSERT_TRUE(poses.ok()) << poses.error().message;
+  MachinePose prev = over;
+  for (const MachinePose& p : poses.value()) {
+    EXPECT_LE(std::abs(p.c_deg - prev.c_deg), kMaxRotaryStepDeg + 1e-9);
+    prev = p;
+  }
+  EXPECT_LT(norm(forward(m, poses.value().back()).tip_part_mm - q1), 1e-9);
+}
+
+}  // namespace
+}  // namespace polyaxis::machine
