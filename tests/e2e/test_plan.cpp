@@ -250,6 +250,7 @@ TEST(PlanDecomposed, TeesAreCutAtTheColumnAndReadBackClean) {
     EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
     EXPECT_EQ(report["collisions"].get<int>(), 0);
     check_readback(out, "tee");
+    expect_rs274_reads(out, out / "tee.ngc");
   }
 }
 
@@ -278,6 +279,7 @@ TEST(PlanTurnedOver, BridgesStandOnTheirSlabInOneRegion) {
     EXPECT_EQ(report["collisions"].get<int>(), 0);
     EXPECT_NEAR(read_json(out / "plan.json")["placement_rotation"][2][2].get<double>(), -1.0, 1e-12);  // the part's +Z down
     check_readback(out, "bridge");
+    expect_rs274_reads(out, out / "bridge.ngc");
   }
 }
 
