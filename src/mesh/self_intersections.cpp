@@ -4,10 +4,11 @@
 // overlap) and checked cell by cell in parallel; CGAL's box_intersection_d where the faces are
 // too uneven for a grid. Faces sharing a vertex whose fan is proven to project one to one onto a
 // plane (embedded_fans: nearly every vertex of a clean mesh) meet only along their shared edge or
-// vertex and are passed over. The other pairs go to exact predicates (Epick), after a filter for
+// vertex and are passed over (each cell entry carries its face's vertices, flagged, for this). The other pairs go to exact predicates (Epick), after a filter for
 // faces sharing a vertex (one face's far edge surely on one side of the other's plane, in doubles
 // under Shewchuk's error bound, then exactly: they meet at the vertex only):
-// - no shared vertex: do_intersect(triangle, triangle);
+// - no shared vertex: apart when one face surely lies on one side of the other's plane (in doubles
+//   under the same bound), else do_intersect(triangle, triangle);
 // - one shared vertex: the opposite edge of either face meets the other face;
 // - a shared edge: the two opposite vertices are coplanar with the edge and on the same side.
 // This is the only translation unit that includes CGAL.
@@ -103,6 +104,14 @@ bool faces_intersect(const Mesh& mesh, std::size_t f, std::size_t g, const std::
       const std::uint32_t v = b[static_cast<std::size_t>(j)];
       if (v != a[0] && v != a[1] && v != a[2] && sure_orientation(va[0], va[1], va[2], vb[j]) != 0) return false;
     }
+  }
+  if (shared == 0) {
+    // Three vertices of one face surely on one side of the other's plane: the faces are apart.
+    auto surely_apart = [](const Vec3* t, const Vec3* u) {
+      const int o = sure_orientation(t[0], t[1], t[2], u[0]);
+      return o != 0 && o == sure_orientation(t[0], t[1], t[2], u[1]) && o == sure_orientation(t[0], t[1], t[2], u[2]);
+    };
+    if (surely_apart(va, vb) || surely_apart(vb, va)) return false;
   }
   const Point pa[3] = {to_point(va[0]), to_point(va[1]), to_point(va[2])};
   const Point pb[3] = {to_point(vb[0]), to_point(vb[1]), to_point(vb[2])};
@@ -387,7 +396,20 @@ struct CellEntry {
   FaceBox box;
   std::uint32_t face;
   std::int32_t low_cell[3];
+  std::uint32_t corners[3];  // the face's vertices, kEmbeddedBit set on those with an embedded fan
 };
+
+// Marks a vertex id whose fan is embedded (embedded_fans), on meshes whose ids all stay below it.
+constexpr std::uint32_t kEmbeddedBit = std::uint32_t{1} << 31;
+
+// Whether two faces share a vertex whose fan is embedded: then they meet only along their shared
+// edge or vertex (embedded_fans), decided from the entries without reading the mesh.
+bool share_embedded_vertex(const CellEntry& a, const CellEntry& b) {
+  for (const std::uint32_t v : a.corners) {
+    if ((v & kEmbeddedBit) != 0 && (v == b.corners[0] || v == b.corners[1] || v == b.corners[2])) return true;
+  }
+  return false;
+}
 
 bool overlap(const FaceBox& a, const FaceBox& b) {
   for (int k = 0; k < 3; ++k) {
@@ -444,6 +466,8 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeT
         for (int k = 0; k < 3; ++k) low_cell[f][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(g.index(boxes[f].lo[k], k));
       }
     });
+    const bool flag_ids = mesh.vertices.size() < kEmbeddedBit;
+    auto flagged = [&](std::uint32_t v) { return flag_ids && embedded[v] ? v | kEmbeddedBit : v; };
     tbb::enumerable_thread_specific<std::vector<CellEntry>> scratch;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
       std::vector<CellEntry>& entries = scratch.local();
@@ -455,7 +479,8 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeT
         entries.clear();
         for (std::uint32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
           const std::uint32_t f = g.faces[i];
-          entries.push_back({boxes[f], f, {low_cell[f][0], low_cell[f][1], low_cell[f][2]}});
+          const Triangle& t = mesh.triangles[f];
+          entries.push_back({boxes[f], f, {low_cell[f][0], low_cell[f][1], low_cell[f][2]}, {flagged(t[0]), flagged(t[1]), flagged(t[2])}});
         }
         // Sweep and prune along x: a box meets only the boxes that start before it ends.
         std::sort(entries.begin(), entries.end(), [](const CellEntry& x, const CellEntry& y) {
@@ -469,7 +494,7 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeT
             const std::int32_t* lb = entries[j].low_cell;
             // Each pair once: in the cell of the low corner of the two boxes' overlap.
             if (std::max(la[0], lb[0]) != cell_xyz[0] || std::max(la[1], lb[1]) != cell_xyz[1] || std::max(la[2], lb[2]) != cell_xyz[2]) continue;
-            if (!overlap(a, b)) continue;
+            if (!overlap(a, b) || (flag_ids && share_embedded_vertex(entries[i], entries[j]))) continue;
             const std::size_t f = entries[i].face, h = entries[j].face;
             if (hit[f].load(std::memory_order_relaxed) && hit[h].load(std::memory_order_relaxed)) continue;
             if (faces_intersect(mesh, f, h, &embedded)) hit[f].store(1, std::memory_order_relaxed), hit[h].store(1, std::memory_order_relaxed);

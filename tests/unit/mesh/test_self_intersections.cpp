@@ -122,5 +122,23 @@ TEST(SelfIntersections, FacesTouchingAtCoordinatesNoFloatHolds) {
   }
 }
 
+// Faces sharing no vertex, one a hair above the other's plane or a hair through it: the filter in
+// doubles passes over only pairs surely apart, and the exact predicate decides the rest.
+TEST(SelfIntersections, FacesAHairApartOrAHairThrough) {
+  const double z = 0.1;
+  for (const bool through : {false, true}) {
+    const double tip = through ? std::nextafter(z, -1.0) : std::nextafter(z, 1.0);
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<core::Vec3> points = {{-5, -5, z}, {5, -5, z}, {0, 5, z}, {0.3, 0.2, tip}, {2.3, 0.2, z + 4}, {0.3, 2.2, z + 3}};
+      for (auto& p : points) {
+        for (int k = 0; k < axis; ++k) p = {p.z, p.x, p.y};
+      }
+      const Mesh m{points, {{0, 1, 2}, {3, 4, 5}}};
+      EXPECT_EQ(self_intersecting_faces(m).size(), through ? 2u : 0u) << axis << (through ? " through" : " apart");
+      EXPECT_EQ(detail::self_intersecting_faces_by_boxes(m).size(), through ? 2u : 0u) << axis;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace polyaxis::mesh
