@@ -4,9 +4,10 @@
 // overlap) and checked cell by cell in parallel; CGAL's box_intersection_d where the faces are
 // too uneven for a grid. Faces sharing a vertex whose fan is proven to project one to one onto a
 // plane (embedded_fans: nearly every vertex of a clean mesh) meet only along their shared edge or
-// vertex and are passed over (each cell entry carries its face's vertices, flagged, for this). The other pairs go to exact predicates (Epick), after a filter for
-// faces sharing a vertex (one face's far edge surely on one side of the other's plane, in doubles
-// under Shewchuk's error bound, then exactly: they meet at the vertex only):
+// vertex and are passed over (each cell entry carries its face's vertices, flagged, for this).
+// The other pairs go to exact predicates (Epick), after a filter for faces sharing a vertex (one
+// face's far edge surely on one side of the other's plane, in doubles under Shewchuk's error
+// bound, then exactly: they meet at the vertex only):
 // - no shared vertex: apart when one face surely lies on one side of the other's plane (in doubles
 //   under the same bound), else do_intersect(triangle, triangle);
 // - one shared vertex: the opposite edge of either face meets the other face;
