@@ -10,6 +10,10 @@
 namespace polyaxis::geom2d {
 namespace {
 
+// A bead's footprint is drawn with its round ends and joins this close to true (mm): a few dozen
+// points a half turn for a 1 mm bead.
+constexpr double kSweepArcToleranceMm = 2e-3;
+
 ClipperLib::Path to_path(const Ring& ring) {
   ClipperLib::Path path;
   path.reserve(ring.size());
@@ -133,6 +137,37 @@ std::vector<Polygon> boolean(ClipperLib::ClipType op, const std::vector<Ring>& a
 std::vector<Polygon> xor_rings(const std::vector<Ring>& a, const std::vector<Ring>& b) { return boolean(ClipperLib::ctXor, a, b); }
 std::vector<Polygon> difference_rings(const std::vector<Ring>& a, const std::vector<Ring>& b) {
   return boolean(ClipperLib::ctDifference, a, b);
+}
+
+std::vector<Polygon> intersection_rings(const std::vector<Ring>& a, const std::vector<Ring>& b) {
+  return boolean(ClipperLib::ctIntersection, a, b);
+}
+
+std::vector<Polygon> sweep_open(const std::vector<Ring>& paths, double radius_mm) {
+  ClipperLib::ClipperOffset off(2.0, kSweepArcToleranceMm * kUnitsPerMm);
+  for (const Ring& r : paths) {
+    if (!r.empty()) off.AddPath(to_path(r), ClipperLib::jtRound, ClipperLib::etOpenRound);
+  }
+  ClipperLib::PolyTree tree;
+  off.Execute(tree, radius_mm * kUnitsPerMm);
+  return from_tree(tree);
+}
+
+std::vector<Ring> clip_open(const std::vector<Ring>& paths, const std::vector<Ring>& rings) {
+  ClipperLib::Clipper clipper;
+  for (const Ring& p : paths) {
+    if (p.size() >= 2) clipper.AddPath(to_path(p), ClipperLib::ptSubject, false);
+  }
+  for (const Ring& r : rings) {
+    if (r.size() >= 3) clipper.AddPath(to_path(r), ClipperLib::ptClip, true);
+  }
+  ClipperLib::PolyTree tree;
+  clipper.Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  ClipperLib::Paths open;
+  ClipperLib::OpenPathsFromPolyTree(tree, open);
+  std::vector<Ring> out;
+  for (const auto& p : open) out.push_back(to_ring(p));
+  return out;
 }
 
 std::vector<Polygon> offset(const std::vector<Polygon>& polygons, double delta_mm) {

@@ -39,6 +39,8 @@ constexpr double kBelowPlateLayerShare = 0.5;
 constexpr int kMaxGuardDepth = 8;
 // A layer whose bottom is within this of the plate's top is laid on the plate.
 constexpr double kOnPlateMm = 1e-6;
+// A layer whose normal's z reaches 1 − this is upright.
+constexpr double kUprightCos = 1e-9;
 
 double angle_deg(Vec3 a, Vec3 b) {
   const double c = core::dot(core::normalized(a), core::normalized(b));
@@ -333,7 +335,9 @@ void make_program(Plan& plan, const machine::MachineConfig& machine, const proce
       if (path.points.empty()) continue;
       const char* kind = path.kind == toolpath::PathKind::kPerimeter ? "perimeter" : (path.kind == toolpath::PathKind::kFill ? "fill" : "travel");
       // The G-code writer prefixes "layer N region R" to a new block's comment.
-      const std::string comment = path.kind == toolpath::PathKind::kPerimeter ? fmt::format("perimeter {}", path.perimeter_index) : kind;
+      const std::string comment = path.kind == toolpath::PathKind::kPerimeter ? fmt::format("perimeter {}", path.perimeter_index)
+                                  : path.gap_fill                               ? std::string("gap fill")
+                                                                                : std::string(kind);
       if (first_in_layer) {
         const toolpath::PathPoint& p0 = path.points.front();
         const Vec3 approach = p0.position_mm + core::normalized(p0.tool_axis) * options.retract_mm;
@@ -623,6 +627,11 @@ core::Status add_region(Plan& plan, PlanRegion& region, const std::vector<PlanRe
   tp.threads = options.threads;
   tp.region = region.id;
   tp.max_axis_turn_deg_per_mm = steady_turn_deg_per_mm(machine, process);
+  // Gap fill in the first layer only where it stands upright on the plate's top (Z = 0 placed).
+  if (!layers.value().layers.empty()) {
+    const slicing::Layer& first = layers.value().layers.front();
+    tp.gap_fill_first_layer = first.frame.d.z > 1.0 - kUprightCos && std::abs(first.height_mm - first.below_mm) <= kOnPlateMm;
+  }
   auto paths = toolpath::make_toolpaths(region.mesh, layers.value(), tp);
   if (!paths) return paths.error();
   if (auto s = guard_axes(plan, machine, options, region, layers.value(), paths.value()); !s) return s.error();

@@ -21,6 +21,7 @@
 #include "polyaxis/core/progress.h"
 #include "polyaxis/mesh/topology.h"
 #include "polyaxis/geom2d/clip.h"
+#include "gap_fill.h"
 #include "zigzag.h"
 
 namespace polyaxis::toolpath {
@@ -34,6 +35,8 @@ using geom2d::Polygon;
 using geom2d::Ring;
 
 constexpr double kPi = 3.14159265358979323846;
+// Two layers whose normals' dot product reaches this are parallel (planar slicing's are exactly).
+constexpr double kParallelCos = 1.0 - 1e-12;
 // Seams turn by the golden angle from layer to layer: no two layers in a long run share a direction.
 const double kGoldenAngleRad = kPi * (3.0 - std::sqrt(5.0));
 // Two layers share a build direction when their unit normals differ by less than this (unitless).
@@ -49,6 +52,7 @@ struct Candidate {
   bool closed = true;
   bool fixed_start = false;  // a perimeter whose seam is already chosen
   Ring points;
+  bool gap_fill = false;
 };
 
 // Candidates of one island in the groups they run in: perimeter 0, 1, ..., then fill.
@@ -120,8 +124,10 @@ void start_near(Candidate& c, Point cur) {
 
 class LayerPlanner {
  public:
-  LayerPlanner(const mesh::Mesh& mesh, const ToolpathOptions& o, const slicing::Layer& layer, const detail::FacetLocator* facets)
-      : mesh_(mesh), o_(o), layer_(layer), facets_(facets) {}
+  // REST_ON (optional): the beads of the layer below in this layer's (u, v); gap fill is kept over them.
+  LayerPlanner(const mesh::Mesh& mesh, const ToolpathOptions& o, const slicing::Layer& layer, const detail::FacetLocator* facets,
+               const std::vector<Polygon>* rest_on = nullptr)
+      : mesh_(mesh), o_(o), layer_(layer), facets_(facets), rest_on_(rest_on) {}
 
   LayerToolpaths run() {
     LayerToolpaths out;
@@ -152,7 +158,7 @@ class LayerPlanner {
     const double w = o_.bead_width_mm, s = spacing_mm();
     const std::vector<Polygon> island{polygon};
     const std::vector<Polygon> first = geom2d::offset(island, -w / 2.0);
-    report_thin(polygon, first, thin);
+    std::vector<Candidate> gap = gap_fill(polygon, first, thin);
     Island groups;
     const auto n = static_cast<std::uint32_t>(o_.perimeters);
     for (std::uint32_t k = 0; k < n; ++k) {
@@ -161,6 +167,7 @@ class LayerPlanner {
       groups.emplace_back();
       add_rings(ring, PathKind::kPerimeter, k, k == 0, true, groups.back());
     }
+    if (!gap.empty()) groups.push_back(std::move(gap));
     if (o_.fill == ToolpathOptions::kZigzag) {
       // The innermost perimeter's bead edge: lines s/2 inside it sit a full spacing from it.
       const std::vector<Polygon> region = geom2d::offset(island, -(w / 2.0 + n * s - s / 2.0));
@@ -188,20 +195,38 @@ class LayerPlanner {
     return {layer_.index, layer_.frame.to_world(c.x, c.y), c.area, std::move(what)};
   }
 
-  // The parts of POLYGON that the first perimeter's bead (offset FIRST grown back by half a bead)
-  // does not cover.
-  void report_thin(const Polygon& polygon, const std::vector<Polygon>& first, std::vector<ThinRegion>& thin) const {
-    const double w = o_.bead_width_mm;
+  // The pieces of POLYGON that the first perimeter's bead (FIRST grown back by half a bead) does
+  // not cover, or all of it when no perimeter fits: each laid as one bead along its middle (gap
+  // fill, as open fill paths), and what no bead covers reported as thin.
+  std::vector<Candidate> gap_fill(const Polygon& polygon, const std::vector<Polygon>& first, std::vector<ThinRegion>& thin) const {
+    const double w = o_.bead_width_mm, min_area = kThinMinAreaBeads2 * w * w;
+    std::vector<Polygon> pieces;
+    std::string what;
     if (first.empty()) {
-      thin.push_back(thin_region(polygon, fmt::format("island narrower than a bead ({} mm): no perimeter fits", w)));
-      return;
-    }
-    const auto covered = geom2d::offset(first, w / 2.0 + kThinSlackMm);
-    for (const Polygon& piece : geom2d::difference_rings(geom2d::rings_of({polygon}), geom2d::rings_of(covered))) {
-      if (geom2d::area_mm2(piece) >= kThinMinAreaBeads2 * w * w) {
-        thin.push_back(thin_region(piece, fmt::format("feature narrower than a bead ({} mm): not deposited", w)));
+      pieces = {polygon}, what = fmt::format("island narrower than a bead ({} mm): no perimeter fits", w);
+    } else {
+      what = fmt::format("feature narrower than a bead ({} mm): not deposited", w);
+      const auto covered = geom2d::offset(first, w / 2.0 + kThinSlackMm);
+      for (Polygon& piece : geom2d::difference_rings(geom2d::rings_of({polygon}), geom2d::rings_of(covered))) {
+        if (geom2d::area_mm2(piece) >= min_area) pieces.push_back(std::move(piece));
       }
     }
+    std::vector<Candidate> out;
+    for (const Polygon& piece : pieces) {
+      std::vector<Ring> lines;
+      if (o_.gap_fill) lines = detail::centre_lines(piece, w, kGapFillMinWidthBeads * w);
+      if (rest_on_ != nullptr && !lines.empty()) lines = detail::lines_within(lines, *rest_on_, w);
+      if (lines.empty()) {
+        thin.push_back(thin_region(piece, what));
+        continue;
+      }
+      const auto laid = geom2d::sweep_open(lines, w / 2.0 + kThinSlackMm);
+      for (const Polygon& left : geom2d::difference_rings(geom2d::rings_of({piece}), geom2d::rings_of(laid))) {
+        if (geom2d::area_mm2(left) >= min_area) thin.push_back(thin_region(left, what));
+      }
+      for (Ring& line : lines) out.push_back({PathKind::kFill, 0, false, false, false, std::move(line), true});
+    }
+    return out;
   }
 
   // Islands in greedy order of their nearest entry, and within each its groups in order, each
@@ -281,6 +306,7 @@ class LayerPlanner {
       path.region = o_.region;
       path.perimeter_index = c.perimeter_index;
       path.outer_contour = c.outer_contour;
+      path.gap_fill = c.gap_fill;
       const std::vector<Vec3> axis = axes(c);
       for (std::size_t i = 0; i < c.points.size(); ++i) path.points.push_back({world(c.points[i]), axis[i], i > 0});
       if (c.closed) path.points.push_back({world(c.points.front()), axis.front(), true});
@@ -309,9 +335,54 @@ class LayerPlanner {
   const ToolpathOptions& o_;
   const slicing::Layer& layer_;
   const detail::FacetLocator* facets_;
+  const std::vector<Polygon>* rest_on_;
 };
 
 bool finite_positive(double x) { return std::isfinite(x) && x > 0.0; }
+
+bool has_gap_fill(const LayerToolpaths& layer) {
+  return std::any_of(layer.paths.begin(), layer.paths.end(), [](const Path& p) { return p.gap_fill; });
+}
+
+// The centre lines of BELOW's beads seen along FRAME's normal, in FRAME's (u, v), grown by
+// REACH_MM: of the runs of deposit that come within two beads of the box of ABOVE's gap-fill paths.
+std::vector<Polygon> beads_under(const LayerToolpaths& below, const slicing::Frame& frame, const LayerToolpaths& above, double bead,
+                                 double reach_mm) {
+  auto local = [&](Vec3 p) {
+    const Vec3 r = p - frame.origin;
+    return Point{geom2d::to_units(core::dot(r, frame.u)), geom2d::to_units(core::dot(r, frame.v))};
+  };
+  std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
+  for (const Path& path : above.paths) {
+    if (!path.gap_fill) continue;
+    for (const PathPoint& p : path.points) {
+      const Point q = local(p.position_mm);
+      x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
+    }
+  }
+  const std::int64_t margin = geom2d::to_units(2.0 * bead);
+  std::vector<Ring> runs;
+  Ring run;
+  auto flush = [&] {  // kept when the run's box comes within the margin of the gap fill's
+    std::int64_t a0 = INT64_MAX, b0 = INT64_MAX, a1 = INT64_MIN, b1 = INT64_MIN;
+    for (const Point& q : run) a0 = std::min(a0, q.x), b0 = std::min(b0, q.y), a1 = std::max(a1, q.x), b1 = std::max(b1, q.y);
+    if (run.size() >= 2 && a1 >= x0 - margin && a0 <= x1 + margin && b1 >= y0 - margin && b0 <= y1 + margin) runs.push_back(std::move(run));
+    run.clear();
+  };
+  for (const Path& path : below.paths) {
+    if (path.kind == PathKind::kTravel) continue;
+    for (std::size_t i = 0; i < path.points.size(); ++i) {
+      if (!path.points[i].deposit) {
+        flush();
+        continue;
+      }
+      if (run.empty() && i > 0) run.push_back(local(path.points[i - 1].position_mm));
+      run.push_back(local(path.points[i].position_mm));
+    }
+    flush();
+  }
+  return geom2d::sweep_open(runs, reach_mm);
+}
 
 }  // namespace
 
@@ -385,38 +456,57 @@ core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& m
   core::Progress progress("toolpaths", layers.size());
   std::atomic<std::uint64_t> done{0};
   std::vector<std::string> failed(slices.conformal_base ? layers.size() : 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layers.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      std::optional<detail::FacetLocator> facets;
-      std::optional<slicing::SectionContext> own;  // a tilted layer's direction
-      std::vector<std::uint32_t> own_faces;
-      if (tilt && shared) {
-        const std::uint32_t k = slot_of_layer[i];
-        const std::span<const std::uint32_t> faces(bucket.data() + start[k], start[k + 1] - start[k]);
-        facets.emplace(*ctx, layers[i].height_mm, layers[i].frame, faces);
-      } else if (tilt) {
-        own.emplace(mesh, layers[i].frame.d, &topology);
-        const double h = layers[i].height_mm;
-        for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-          if (own->face_min(f) < h && h <= own->face_max(f)) own_faces.push_back(f);  // as the shared buckets (section.h's tie rule)
-        }
-        facets.emplace(*own, h, layers[i].frame, own_faces);
+  ToolpathOptions flat = options;
+  if (slices.conformal_base) flat.gap_fill = false;  // the curved layer's own beads are not projected
+  // Layer I's toolpaths, its gap fill kept over REST_ON when given (LayerPlanner).
+  const std::vector<geom2d::Polygon> nothing;
+  auto plan_layer = [&](std::size_t i, const std::vector<geom2d::Polygon>* rest_on) {
+    std::optional<detail::FacetLocator> facets;
+    std::optional<slicing::SectionContext> own;  // a tilted layer's direction
+    std::vector<std::uint32_t> own_faces;
+    if (tilt && shared) {
+      const std::uint32_t k = slot_of_layer[i];
+      const std::span<const std::uint32_t> faces(bucket.data() + start[k], start[k + 1] - start[k]);
+      facets.emplace(*ctx, layers[i].height_mm, layers[i].frame, faces);
+    } else if (tilt) {
+      own.emplace(mesh, layers[i].frame.d, &topology);
+      const double h = layers[i].height_mm;
+      for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+        if (own->face_min(f) < h && h <= own->face_max(f)) own_faces.push_back(f);  // as the shared buckets (section.h's tie rule)
       }
-      if (slices.conformal_base) {
-        // Conformal: the paths are made on the section warped to the surface's lengths, then draped.
-        const double step = kDrapeStepBeads * options.bead_width_mm;
-        const detail::SurfaceWarp warp(*slices.conformal_base, layers[i], step);
-        slicing::Layer warped = layers[i];
-        warped.polygons = warp.warped(layers[i].polygons);
-        result[i] = LayerPlanner(mesh, options, warped, nullptr).run();
-        failed[i] = detail::drape(*slices.conformal_base, layers[i], warp, step, result[i]);
-        continue;
-      }
-      result[i] = LayerPlanner(mesh, options, layers[i], facets ? &*facets : nullptr).run();
+      facets.emplace(*own, h, layers[i].frame, own_faces);
     }
+    if (slices.conformal_base) {
+      // Conformal: the paths are made on the section warped to the surface's lengths, then draped.
+      const double step = kDrapeStepBeads * options.bead_width_mm;
+      const detail::SurfaceWarp warp(*slices.conformal_base, layers[i], step);
+      slicing::Layer warped = layers[i];
+      warped.polygons = warp.warped(layers[i].polygons);
+      result[i] = LayerPlanner(mesh, flat, warped, nullptr).run();
+      failed[i] = detail::drape(*slices.conformal_base, layers[i], warp, step, result[i]);
+      return;
+    }
+    result[i] = LayerPlanner(mesh, flat, layers[i], facets ? &*facets : nullptr, rest_on).run();
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layers.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) plan_layer(i, i == 0 && !options.gap_fill_first_layer ? &nothing : nullptr);
     done += r.size();
     if (tbb::this_task_arena::current_thread_index() == 0) progress.update(done);
   });
+  // Gap fill above the first layer is kept within t·tan α of the beads of the layer below (t the
+  // distance between parallel layers' planes, a tilted layer's least thickness), bottom up: where a thin piece below was too thin to lay, the
+  // piece over it is not laid either, and a line steps out no further than a wall may lean.
+  const double tan_alpha = std::tan(options.self_supporting_deg * kPi / 180.0);
+  for (std::size_t i = 1; flat.gap_fill && i < layers.size(); ++i) {
+    if (!has_gap_fill(result[i])) continue;
+    // Between parallel layers the distance between their planes; tilted layers fan, so the least
+    // thickness of this one (as the support check takes them, planner/support.cpp).
+    const bool parallel = core::dot(layers[i].frame.d, layers[i - 1].frame.d) >= kParallelCos;
+    const double t = parallel ? std::abs(core::dot(layers[i].frame.origin - layers[i - 1].frame.origin, layers[i].frame.d))
+                              : layers[i].thickness_range().first;
+    const std::vector<geom2d::Polygon> below = beads_under(result[i - 1], layers[i].frame, result[i], options.bead_width_mm, t * tan_alpha);
+    plan_layer(i, &below);
+  }
   for (const std::string& f : failed) {
     if (!f.empty()) return core::make_error(core::ErrorCode::kInfeasible, f);
   }

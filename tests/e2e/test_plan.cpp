@@ -254,6 +254,41 @@ TEST(PlanDecomposed, TeesAreCutAtTheColumnAndReadBackClean) {
   }
 }
 
+// Fins of our own on a block, with defaults: 3 mm thick at the root, tapering to less than the
+// 0.9 mm bead at the top, upright or leaning. The part narrower than a bead has no perimeter and
+// is laid as one bead along its middle (gap fill) where it is at least half a bead wide, on the
+// beads below; the read-back finds every bead grounded and rs274 reads the program. A fin whose
+// top is narrower than half a bead keeps that much as thin regions.
+TEST(PlanGapFill, TaperedFinsAreLaidAlongTheirMiddleAndReadBackGrounded) {
+  TempDir dir;
+  struct Fin {
+    double top, lean;
+    bool laid_to_the_top;
+  };
+  for (const Fin f : {Fin{0.6, 0.0, true}, Fin{0.5, 4.0, true}, Fin{0.2, 0.0, false}}) {
+    const auto out = dir / fmt::format("fin_{}_{}", f.top, f.lean);
+    std::filesystem::create_directories(out);
+    const auto part = out / "fin.stl";
+    const double t = f.top / 2.0;
+    std::ofstream(part, std::ios::binary) << binary_stl(prism_xz(
+        {{-15, 0}, {15, 0}, {15, 8}, {1.5, 8}, {f.lean + t, 30}, {f.lean - t, 30}, {-1.5, 8}, {-15, 8}}, 20.0));
+    const auto plan = run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html");
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+    EXPECT_EQ(report["collisions"].get<int>(), 0);
+    if (f.laid_to_the_top) {
+      EXPECT_EQ(report["thin_regions"].get<int>(), 0) << out << ": " << report["thin_area_mm2"];
+    } else {
+      EXPECT_GT(report["thin_regions"].get<int>(), 0) << out;
+    }
+    const std::string program = slurp(out / "fin.ngc");
+    EXPECT_NE(program.find("gap fill"), std::string::npos) << out;
+    check_readback(out, "fin");
+    expect_rs274_reads(out, out / "fin.ngc");
+  }
+}
+
 // Bridges of our own (a slab on two legs, two sizes), with defaults: upright, the slab's underside
 // between the legs hangs, and no decomposition holds it (the regions under the slab would reach
 // below the plate or bring the head down to it); turned over, the slab lies on the plate and the

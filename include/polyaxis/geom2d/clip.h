@@ -19,8 +19,16 @@ std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_r
 // Symmetric difference and difference of two sets of rings, each read under the nonzero rule.
 std::vector<Polygon> xor_rings(const std::vector<Ring>& a, const std::vector<Ring>& b);
 std::vector<Polygon> difference_rings(const std::vector<Ring>& a, const std::vector<Ring>& b);
+std::vector<Polygon> intersection_rings(const std::vector<Ring>& a, const std::vector<Ring>& b);
 
 // Offsets POLYGONS by DELTA_MM (negative shrinks) with mitred corners limited to 2·|delta|.
 std::vector<Polygon> offset(const std::vector<Polygon>& polygons, double delta_mm);
+
+// The area a disc of RADIUS_MM covers swept along each open polyline of PATHS (round joins and
+// ends): the footprint of beads laid along them. Polylines of one point give a disc.
+std::vector<Polygon> sweep_open(const std::vector<Ring>& paths, double radius_mm);
+
+// The parts of the open polylines PATHS inside RINGS (nonzero rule), as open polylines.
+std::vector<Ring> clip_open(const std::vector<Ring>& paths, const std::vector<Ring>& rings);
 
 }  // namespace polyaxis::geom2d

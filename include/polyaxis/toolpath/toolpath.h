@@ -29,6 +29,11 @@ inline constexpr double kMaxTiltRad = 60.0 * 3.14159265358979323846 / 180.0;
 // mitre limit of the offsets (a 30° corner loses ≈ 0.23 w²), not features of the part.
 inline constexpr double kThinMinAreaBeads2 = 0.25;
 
+// Gap fill: a piece too thin for a perimeter gets one bead along its middle (detail::centre_lines)
+// where it is at least this many bead widths wide. The bead is a full bead, so a feature of half a
+// bead comes out a bead wide (a hybrid cell machines it back); narrower ones are not deposited.
+inline constexpr double kGapFillMinWidthBeads = 0.5;
+
 // The lost pieces are measured against the opened section grown by this much, mm (1 µm), so the
 // nanometre slivers left by rounding offsets to the 1 nm grid are not counted as pieces.
 inline constexpr double kThinSlackMm = 1e-3;
@@ -54,12 +59,14 @@ struct Path {
   // the j-th fill ring); zigzag fill and travel: 0.
   std::uint32_t perimeter_index = 0;
   bool outer_contour = false;  // the outermost perimeter of an outer boundary, not of a hole
+  bool gap_fill = false;       // a fill path laid along the middle of a thin piece (ToolpathOptions::gap_fill)
   // Closed paths (perimeters, contour fill) repeat their first point at the end. The first point
   // of every deposition path has deposit = false (the move arriving there is a travel).
   std::vector<PathPoint> points;
 };
 
-// A part of a section too thin for one bead: no perimeter covers it, so it is not deposited.
+// A part of a section too thin for one bead that no bead covers (no perimeter, and no gap fill:
+// narrower than kGapFillMinWidthBeads, or beyond the gap fill's line), so it is not deposited.
 // Reported, never silently dropped (RELIABILITY G2).
 struct ThinRegion {
   std::uint32_t layer = 0;  // Layer::index
@@ -85,6 +92,17 @@ struct ToolpathOptions {
   // this is Kapil's Eq. 2 (n·k < 0); Kapil notes (§3-axis slicing) that walls within about 30° of
   // vertical build without tilting, which is the default (core::kDefaultSelfSupportingDeg).
   double self_supporting_deg = 30.0;
+  // Pieces too thin for a perimeter get one bead along their middle (kGapFillMinWidthBeads), run
+  // as open fill paths after the island's perimeters; false: they are only reported. Above the
+  // first layer of a make_toolpaths call the line is kept only where it lies within
+  // t·tan(self_supporting_deg) of the centre lines of the layer below's beads (t the distance
+  // between parallel layers' planes, a tilted layer's least thickness; seen along its normal): a bead never starts over a thin piece
+  // that was not laid, and a line steps out from the one below no further than a wall may lean.
+  // On conformal layers there is no gap fill.
+  bool gap_fill = true;
+  // false: the call's first layer gets no gap fill either, for a first layer that does not stand
+  // on the plate (what it rests on is not known here; the planner sets it per region).
+  bool gap_fill_first_layer = true;
   std::uint32_t region = 0;  // copied into Path::region
   int threads = 0;           // 0: all cores (oneTBB); the output does not depend on it
   // The tilted torch's field along an outer contour (smooth_tool_axes): the largest tilt within
@@ -121,7 +139,9 @@ core::Status validate(const ToolpathOptions& options);
 // (a SliceResult from slicing::slice or its adaptive form does).
 //
 // Per island (polygon) of a layer: perimeters at offsets w/2 + j·s inwards (w the bead width, s
-// = w·(1 − overlap)), then fill. Zigzag fill scans the innermost perimeter's bead edge (offset
+// = w·(1 − overlap)), then gap fill (ToolpathOptions::gap_fill: the pieces the first perimeter's
+// bead does not reach, or the whole island when no perimeter fits, each one bead along its
+// middle), then fill. Zigzag fill scans the innermost perimeter's bead edge (offset
 // w/2 + N·s − s/2) with lines s apart, the first s/2 inside, joined in boustrophedon order along
 // the boundary between neighbouring lines. Contour fill continues the perimeters until the offset
 // is empty. Seams of closed paths start at the vertex nearest to a point that turns by the golden

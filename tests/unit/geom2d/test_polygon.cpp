@@ -75,5 +75,29 @@ TEST(Clip, OffsetShrinksASquare) {
   EXPECT_NEAR(area_mm2(polys[0]), 64.0, 1e-9);
 }
 
+TEST(Clip, SweepOfAnOpenLineIsAStadium) {
+  const std::int64_t mm = to_units(1);
+  const auto polys = sweep_open({Ring{{0, 0}, {10 * mm, 0}}}, 1.0);
+  ASSERT_EQ(polys.size(), 1u);
+  EXPECT_NEAR(area_mm2(polys[0]), 20.0 + 3.14159265358979, 0.01);  // the round ends within 2 µm
+  EXPECT_TRUE(sweep_open({}, 1.0).empty());
+}
+
+TEST(Clip, ClipOpenKeepsThePartsInside) {
+  const std::int64_t mm = to_units(1);
+  // A line across a square with a hole: the two pieces between the square's sides and the hole's.
+  const Ring outer = square(0, 0, 10 * mm), hole = square(4 * mm, 4 * mm, 2 * mm);
+  Ring hole_cw(hole.rbegin(), hole.rend());
+  const auto parts = clip_open({Ring{{-5 * mm, 5 * mm}, {15 * mm, 5 * mm}}}, {outer, hole_cw});
+  ASSERT_EQ(parts.size(), 2u);
+  double length = 0.0;
+  for (const Ring& r : parts) {
+    ASSERT_EQ(r.size(), 2u);
+    length += std::abs(to_mm(r[1].x - r[0].x));
+    for (const Point& q : r) EXPECT_EQ(q.y, 5 * mm);
+  }
+  EXPECT_NEAR(length, 8.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace polyaxis::geom2d

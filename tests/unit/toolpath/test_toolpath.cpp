@@ -262,31 +262,137 @@ TEST(Toolpath, OverlapBringsBeadsCloser) {
 }
 
 TEST(Toolpath, ThinWallIsReportedNotDropped) {
-  const mesh::Mesh wall = repaired(test::box({0, 0, 0}, {40, 1, 3}));
+  // 0.8 mm: less than half the 2 mm bead, so not even gap fill lays it.
+  const mesh::Mesh wall = repaired(test::box({0, 0, 0}, {40, 0.8, 3}));
   const auto layers = plan(wall, sliced(wall, 1.0), ToolpathOptions{});
   ASSERT_EQ(layers.size(), 3u);
   for (const auto& l : layers) {
     EXPECT_TRUE(l.paths.empty());
     ASSERT_EQ(l.thin.size(), 1u);
     EXPECT_EQ(l.thin[0].layer, l.layer);
-    EXPECT_NEAR(l.thin[0].area_mm2, 40.0, kAreaTol);
+    EXPECT_NEAR(l.thin[0].area_mm2, 32.0, kAreaTol);
     EXPECT_NEAR(l.thin[0].where_mm.x, 20.0, 1e-6);
-    EXPECT_NEAR(l.thin[0].where_mm.y, 0.5, 1e-6);
+    EXPECT_NEAR(l.thin[0].where_mm.y, 0.4, 1e-6);
     EXPECT_NEAR(l.thin[0].where_mm.z, l.layer + 0.5, 1e-9);
     EXPECT_FALSE(l.thin[0].what.empty());
   }
 }
 
 TEST(Toolpath, ThinFinOnABlockIsReported) {
-  // A 1 mm fin from x = 20 to 40 on a 20 mm block: the block gets perimeters, the fin is reported.
-  const mesh::Mesh part = repaired(test::join(test::box({0, 0, 0}, {20, 20, 2}), test::box({15, 9.5, 0}, {40, 10.5, 2})));
+  // A 0.8 mm fin from x = 20 to 40 on a 20 mm block: the block gets perimeters, the fin is reported.
+  const mesh::Mesh part = repaired(test::join(test::box({0, 0, 0}, {20, 20, 2}), test::box({15, 9.6, 0}, {40, 10.4, 2})));
   const auto layers = plan(part, sliced(part, 1.0), ToolpathOptions{});
   ASSERT_EQ(layers.size(), 2u);
   for (const auto& l : layers) {
     EXPECT_EQ(of_kind(l, PathKind::kPerimeter).size(), 2u);
     ASSERT_EQ(l.thin.size(), 1u);
-    EXPECT_NEAR(l.thin[0].area_mm2, 20.0, 0.01);  // 20 × 1 mm, less the 1 µm slack
+    EXPECT_NEAR(l.thin[0].area_mm2, 16.0, 0.01);  // 20 × 0.8 mm, less the 1 µm slack
     EXPECT_NEAR(l.thin[0].where_mm.x, 30.0, 0.01);
+  }
+}
+
+// The gap-fill paths of a layer.
+std::vector<const Path*> gap_fill_of(const LayerToolpaths& l) {
+  std::vector<const Path*> out;
+  for (const Path& p : l.paths) {
+    if (p.gap_fill) out.push_back(&p);
+  }
+  return out;
+}
+
+double path_length(const Path& p) {
+  double l = 0.0;
+  for (std::size_t i = 1; i < p.points.size(); ++i) l += core::norm(p.points[i].position_mm - p.points[i - 1].position_mm);
+  return l;
+}
+
+TEST(Toolpath, WallsAndFinsBetweenHalfABeadAndABeadGetOneBeadAlongTheirMiddle) {
+  // Widths of 1.1–1.9 mm with a 2 mm bead, at several lengths and turns about Z: one open fill
+  // path along the middle, on the layer, laid (deposit after its first point), nothing reported.
+  for (const double width : {1.1, 1.5, 1.9}) {
+    for (const double length : {6.0, 40.0}) {
+      const mesh::Mesh wall = repaired(test::box({0, 0, 0}, {length, width, 3}));
+      const auto layers = plan(wall, sliced(wall, 1.0), ToolpathOptions{});
+      ASSERT_EQ(layers.size(), 3u);
+      for (const auto& l : layers) {
+        EXPECT_TRUE(l.thin.empty()) << width << " " << length;
+        const auto gap = gap_fill_of(l);
+        ASSERT_EQ(gap.size(), 1u) << width << " " << length;
+        EXPECT_EQ(gap[0]->kind, PathKind::kFill);
+        EXPECT_FALSE(gap[0]->points.front().deposit);
+        EXPECT_TRUE(gap[0]->points.back().deposit);
+        for (const PathPoint& q : gap[0]->points) {
+          EXPECT_NEAR(q.position_mm.y, width / 2.0, 1e-5);
+          EXPECT_NEAR(q.position_mm.z, l.layer + 0.5, 1e-9);
+        }
+        // The skeleton's spine: from half the width in from one end to half the width from the other.
+        EXPECT_NEAR(path_length(*gap[0]), length - width, 1e-4) << width << " " << length;
+      }
+    }
+  }
+  // The fin on a block: laid along its middle from the block's perimeter bead to the fin's end.
+  const mesh::Mesh part = repaired(test::join(test::box({0, 0, 0}, {20, 20, 2}), test::box({15, 9.3, 0}, {40, 10.7, 2})));
+  for (const auto& l : plan(part, sliced(part, 1.0), ToolpathOptions{})) {
+    EXPECT_TRUE(l.thin.empty());
+    const auto gap = gap_fill_of(l);
+    ASSERT_EQ(gap.size(), 1u);
+    double x1 = 0.0;
+    for (const PathPoint& q : gap[0]->points) {
+      EXPECT_NEAR(q.position_mm.y, 10.0, 1e-5);
+      x1 = std::max(x1, q.position_mm.x);
+    }
+    EXPECT_NEAR(x1, 40.0 - 0.7, 1e-4);
+  }
+  ToolpathOptions off;
+  off.gap_fill = false;
+  const mesh::Mesh wall = repaired(test::box({0, 0, 0}, {40, 1.5, 3}));
+  for (const auto& l : plan(wall, sliced(wall, 1.0), off)) {
+    EXPECT_TRUE(l.paths.empty());
+    EXPECT_EQ(l.thin.size(), 1u);
+  }
+}
+
+TEST(Toolpath, GapFillIsLaidOnlyOverTheBeadsOfTheLayerBelow) {
+  // A wall 0.8 mm thick (too thin to lay) under 1.5 mm (gap fill): nothing is laid over the unlaid
+  // layers, so the upper part is reported too. The other way up, the lower part is laid and the
+  // upper reported.
+  const mesh::Mesh thin_under = repaired(test::join(test::box({0, 0.35, 0}, {30, 1.15, 2}), test::box({0, 0, 1.5}, {30, 1.5, 4})));
+  const auto up = plan(thin_under, sliced(thin_under, 0.5), ToolpathOptions{});
+  ASSERT_EQ(up.size(), 8u);
+  for (const auto& l : up) {
+    EXPECT_TRUE(l.paths.empty()) << l.layer;
+    EXPECT_EQ(l.thin.size(), 1u) << l.layer;
+  }
+  const mesh::Mesh wide_under = repaired(test::join(test::box({0, 0, 0}, {30, 1.5, 2}), test::box({0, 0.35, 1.5}, {30, 1.15, 4})));
+  const auto down = plan(wide_under, sliced(wide_under, 0.5), ToolpathOptions{});
+  ASSERT_EQ(down.size(), 8u);
+  for (const auto& l : down) {
+    const bool wide = l.layer < 4;
+    EXPECT_EQ(gap_fill_of(l).size(), wide ? 1u : 0u) << l.layer;
+    EXPECT_EQ(l.thin.size(), wide ? 0u : 1u) << l.layer;
+  }
+  // A wall that narrows from 1.5 to 0.8 mm midway along its length, under a wall 1.5 mm all along:
+  // the lower layers' line stops where the wall narrows, and each layer above reaches at most
+  // t·tan α (0.5 mm · tan 30°) beyond the line below it.
+  io::RawMesh stepped = test::join(test::box({0, 0, 0}, {15, 1.5, 2}), test::box({14, 0.35, 0}, {30, 1.15, 2}));
+  stepped = test::join(stepped, test::box({0, 0, 1.5}, {30, 1.5, 4}));
+  const auto mixed = plan(repaired(stepped), sliced(repaired(stepped), 0.5), ToolpathOptions{});
+  ASSERT_EQ(mixed.size(), 8u);
+  double below_x1 = 0.0;
+  for (const auto& l : mixed) {
+    const auto gap = gap_fill_of(l);
+    ASSERT_EQ(gap.size(), 1u) << l.layer;
+    double x1 = 0.0;
+    for (const PathPoint& q : gap[0]->points) x1 = std::max(x1, q.position_mm.x);
+    if (l.layer < 4) {
+      EXPECT_LT(x1, 15.5) << l.layer;
+    } else {
+      EXPECT_GT(x1, below_x1 + 0.1) << l.layer;  // the wider part above leans out as far as it may
+    }
+    if (l.layer > 0) {
+      EXPECT_LE(x1, below_x1 + 0.5 * std::tan(30.0 * kPi / 180.0) + 1e-3) << l.layer;
+    }
+    below_x1 = x1;
   }
 }
 
