@@ -20,6 +20,13 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
 // A run of centre line shorter than this many bead widths would lay a blob, not a bead: dropped.
 constexpr double kMinRunBeads = 0.25;
+// The piece's outline is simplified to within this (mm) before its skeleton is taken: a finely
+// tessellated arc loses its many short sides (the skeleton's cost grows with their square) and the
+// line moves by no more than this, far below a bead.
+constexpr double kSimplifyMm = 0.01;
+// A piece still of more sides than this is left to the caller (reported, not laid): the skeleton
+// would cost about a second a piece.
+constexpr std::size_t kMaxSides = 600;
 
 // A point of the centre line: (u, v) mm from the piece's first vertex, and the piece's half
 // width there (the skeleton's distance to the boundary).
@@ -33,6 +40,49 @@ struct Edge {
 };
 
 double distance(const Node& a, const Node& b) { return std::hypot(b.x - a.x, b.y - a.y); }
+
+// Douglas–Peucker on the chain POINTS[first..last] (mm, indices into a closed ring read cyclically):
+// marks in KEEP the points that hold it within TOLERANCE.
+void simplify(const std::vector<Kernel::Point_2>& points, std::size_t first, std::size_t last, double tolerance, std::vector<char>& keep) {
+  const std::size_t n = points.size();
+  std::vector<std::pair<std::size_t, std::size_t>> stack{{first, last}};
+  while (!stack.empty()) {
+    const auto [a, b] = stack.back();
+    stack.pop_back();
+    const Kernel::Point_2 &p = points[a % n], &q = points[b % n];
+    const double dx = q.x() - p.x(), dy = q.y() - p.y(), len = std::hypot(dx, dy);
+    double worst = -1.0;
+    std::size_t at = a;
+    for (std::size_t i = a + 1; i < b; ++i) {
+      const Kernel::Point_2& r = points[i % n];
+      const double d = len > 0.0 ? std::fabs(dx * (r.y() - p.y()) - dy * (r.x() - p.x())) / len : std::hypot(r.x() - p.x(), r.y() - p.y());
+      if (d > worst) worst = d, at = i;
+    }
+    if (worst <= tolerance) continue;
+    keep[at % n] = 1;
+    stack.push_back({a, at});
+    stack.push_back({at, b});
+  }
+}
+
+// The closed ring POINTS simplified to within TOLERANCE (mm): split at its first point and the
+// point farthest from it, each half by Douglas–Peucker.
+std::vector<Kernel::Point_2> simplified(const std::vector<Kernel::Point_2>& points, double tolerance) {
+  const std::size_t n = points.size();
+  std::size_t far = 0;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (CGAL::squared_distance(points[i], points[0]) > CGAL::squared_distance(points[far], points[0])) far = i;
+  }
+  std::vector<char> keep(n, 0);
+  keep[0] = keep[far] = 1;
+  simplify(points, 0, far, tolerance, keep);
+  simplify(points, far, n, tolerance, keep);
+  std::vector<Kernel::Point_2> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (keep[i]) out.push_back(points[i]);
+  }
+  return out;
+}
 
 Node between(const Node& a, const Node& b, double t) { return {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.r + (b.r - a.r) * t}; }
 
@@ -125,7 +175,8 @@ std::vector<geom2d::Ring> centre_lines(const geom2d::Polygon& piece, double bead
     if (points.empty() || q != points.back()) points.push_back(q);
   }
   while (points.size() > 1 && points.front() == points.back()) points.pop_back();
-  if (points.size() < 3) return {};
+  if (points.size() > 3) points = simplified(points, kSimplifyMm);
+  if (points.size() < 3 || points.size() > kMaxSides) return {};
   std::vector<Node> nodes;
   std::vector<std::vector<Edge>> edges;
   if (!skeleton(points, nodes, edges)) return {};
