@@ -493,9 +493,10 @@ core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& m
     done += r.size();
     if (tbb::this_task_arena::current_thread_index() == 0) progress.update(done);
   });
-  // Gap fill above the first layer is kept within t·tan α of the beads of the layer below (t the
-  // distance between parallel layers' planes, a tilted layer's least thickness), bottom up: where a thin piece below was too thin to lay, the
-  // piece over it is not laid either, and a line steps out no further than a wall may lean.
+  // Gap fill above the first layer is kept within t·tan α of the beads of the layer below, bottom
+  // up: where a thin piece below was too thin to lay, the piece over it is not laid either, and a
+  // line steps out no further than a wall may lean. Such a layer is planned again (few layers have
+  // gap fill; the rest of a layer is as it was).
   const double tan_alpha = std::tan(options.self_supporting_deg * kPi / 180.0);
   for (std::size_t i = 1; flat.gap_fill && i < layers.size(); ++i) {
     if (!has_gap_fill(result[i])) continue;
