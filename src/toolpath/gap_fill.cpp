@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <vector>
 
@@ -164,27 +165,78 @@ double length(const std::vector<Node>& run) {
   return l;
 }
 
-}  // namespace
+// The middle of a thin ring between OUTER and HOLE (mm, each a closed loop): for each point of
+// OUTER, the midpoint to the nearest point of HOLE, with half that distance as the half width; in
+// OUTER's order, closed (the last is the first). A wall narrower than a bead is a thin ring, so this
+// is its centre line. (The straight skeleton of a uniform ring collapses everywhere at once, which
+// costs CGAL its exact arithmetic: tens of milliseconds a layer.)
+std::vector<Node> loop_round_hole(const std::vector<Kernel::Point_2>& outer, const std::vector<Kernel::Point_2>& hole) {
+  std::vector<Node> loop;
+  const std::size_t m = hole.size();
+  for (const Kernel::Point_2& o : outer) {
+    const double ox = o.x(), oy = o.y();
+    double best = std::numeric_limits<double>::infinity(), bx = 0.0, by = 0.0;
+    for (std::size_t j = 0; j < m; ++j) {
+      const Kernel::Point_2 &a = hole[j], &b = hole[(j + 1) % m];
+      const double dx = b.x() - a.x(), dy = b.y() - a.y(), l2 = dx * dx + dy * dy;
+      const double t = l2 > 0.0 ? std::clamp(((ox - a.x()) * dx + (oy - a.y()) * dy) / l2, 0.0, 1.0) : 0.0;
+      const double px = a.x() + t * dx, py = a.y() + t * dy, d = std::hypot(ox - px, oy - py);
+      if (d < best) best = d, bx = px, by = py;
+    }
+    loop.push_back({(ox + bx) / 2.0, (oy + by) / 2.0, best / 2.0});
+  }
+  if (!loop.empty()) loop.push_back(loop.front());
+  return loop;
+}
 
-std::vector<geom2d::Ring> centre_lines(const geom2d::Polygon& piece, double bead_mm, double min_width_mm) {
-  if (!piece.holes.empty() || piece.outer.size() < 3) return {};
-  const geom2d::Point origin = piece.outer.front();
+// The points of RING (units) in mm from ORIGIN, without repeats, simplified (kSimplifyMm).
+std::vector<Kernel::Point_2> outline(const geom2d::Ring& ring, geom2d::Point origin) {
   std::vector<Kernel::Point_2> points;
-  for (const geom2d::Point& p : piece.outer) {
+  for (const geom2d::Point& p : ring) {
     const Kernel::Point_2 q(geom2d::to_mm(p.x - origin.x), geom2d::to_mm(p.y - origin.y));
     if (points.empty() || q != points.back()) points.push_back(q);
   }
   while (points.size() > 1 && points.front() == points.back()) points.pop_back();
   if (points.size() > 3) points = simplified(points, kSimplifyMm);
-  if (points.size() < 3 || points.size() > kMaxSides) return {};
-  std::vector<Node> nodes;
-  std::vector<std::vector<Edge>> edges;
-  if (!skeleton(points, nodes, edges)) return {};
-  std::vector<std::size_t> parent;
-  const std::size_t a = farthest(edges, 0, parent);
-  const std::size_t b = farthest(edges, a, parent);
+  return points;
+}
+
+}  // namespace
+
+std::vector<geom2d::Ring> centre_lines(const geom2d::Polygon& piece, double bead_mm, double min_width_mm) {
+  if (piece.holes.size() > 1 || piece.outer.size() < 3) return {};
+  const geom2d::Point origin = piece.outer.front();
+  const std::vector<Kernel::Point_2> points = outline(piece.outer, origin);
+  std::vector<std::vector<Kernel::Point_2>> holes;
+  std::size_t sides = points.size();
+  for (const geom2d::Ring& h : piece.holes) holes.push_back(outline(h, origin)), sides += holes.back().size();
+  if (points.size() < 3 || sides > kMaxSides) return {};
+  for (const auto& h : holes) {
+    if (h.size() < 3) return {};
+  }
   std::vector<Node> path;
-  for (std::size_t n = b; n != SIZE_MAX; n = parent[n]) path.push_back(nodes[n]);
+  if (holes.empty()) {
+    // The longest path through the skeleton's tree.
+    std::vector<Node> nodes;
+    std::vector<std::vector<Edge>> edges;
+    if (!skeleton(points, nodes, edges)) return {};
+    std::vector<std::size_t> parent;
+    const std::size_t a = farthest(edges, 0, parent);
+    const std::size_t b = farthest(edges, a, parent);
+    for (std::size_t n = b; n != SIZE_MAX; n = parent[n]) path.push_back(nodes[n]);
+  } else {
+    // Round the hole, closed; opened at its narrowest point when that is under the width, so that
+    // the runs are the parts wide enough.
+    std::vector<Node> loop = loop_round_hole(points, holes.front());
+    loop.pop_back();
+    if (loop.size() < 3) return {};
+    std::size_t narrowest = 0;
+    for (std::size_t i = 1; i < loop.size(); ++i) {
+      if (loop[i].r < loop[narrowest].r) narrowest = i;
+    }
+    const std::size_t first = loop[narrowest].r < min_width_mm / 2.0 ? narrowest : 0;
+    for (std::size_t i = 0; i <= loop.size(); ++i) path.push_back(loop[(first + i) % loop.size()]);
+  }
   std::vector<geom2d::Ring> lines;
   for (const std::vector<Node>& run : wide_runs(path, min_width_mm / 2.0)) {
     if (length(run) < kMinRunBeads * bead_mm) continue;

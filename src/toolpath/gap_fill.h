@@ -8,15 +8,17 @@
 
 namespace polyaxis::toolpath::detail {
 
-// The centre line of PIECE (a polygon without holes; one with holes gives none), its outline
-// simplified to within 0.01 mm first (more than 600 sides after that gives none): the longest path
-// through the inner edges of its straight skeleton (CGAL), kept where the piece is at least
-// MIN_WIDTH_MM wide (twice the skeleton's distance to the boundary there, cut where it crosses
-// that width). A run's ends keep at least half of MIN_WIDTH_MM to the boundary, so the bead's
-// round end (BEAD_MM / 2) passes the piece by no more than it does across it. Runs shorter than a
-// quarter of a bead are dropped. Open polylines, (u, v) units.
-// Side branches of the skeleton (into the corners of a wider piece) are not followed: what the
-// line's bead does not cover stays a thin region for the caller to report.
+// The centre lines of PIECE, its outline simplified to within 0.01 mm first (more than 600 sides
+// after that, or more than one hole, gives none):
+// - without a hole, the longest path through the inner edges of its straight skeleton (CGAL);
+// - with one hole (a thin tube's section), the loop of midpoints between each point of the outline
+//   and the nearest point of the hole, closed (its last point is its first).
+// Kept where the piece is at least MIN_WIDTH_MM wide (twice the skeleton's distance to the boundary
+// there, cut where it crosses that width). A run's ends keep at least half of MIN_WIDTH_MM to the
+// boundary, so the bead's round end (BEAD_MM / 2) passes the piece by no more than it does across
+// it. Runs shorter than a quarter of a bead are dropped. Open polylines, (u, v) units. Side branches
+// of the skeleton (into the corners of a wider piece) are not followed: what the line's bead does
+// not cover stays a thin region for the caller to report.
 std::vector<geom2d::Ring> centre_lines(const geom2d::Polygon& piece, double bead_mm, double min_width_mm);
 
 // The parts of the open polylines LINES inside POLYGONS, without those shorter than a quarter of

@@ -289,6 +289,36 @@ TEST(PlanGapFill, TaperedFinsAreLaidAlongTheirMiddleAndReadBackGrounded) {
   }
 }
 
+// Thin-walled tubes of our own, one bead thick (walls of 0.6 and 0.8 mm, bead 0.9 mm), with
+// defaults: no perimeter fits such a wall, so before gap fill nothing could be planned. Each layer
+// is one closed bead round the middle of the wall, the whole tube is laid, and it reads back clean.
+TEST(PlanGapFill, TubesOneBeadThickAreLaidAsOneLoopALayer) {
+  TempDir dir;
+  struct Tube {
+    double bore, wall, height;
+    std::uint32_t sides;
+  };
+  for (const Tube t : {Tube{15.0, 0.8, 12.0, 96}, Tube{25.0, 0.6, 8.0, 160}}) {
+    const auto out = dir / fmt::format("tube_{}", t.bore);
+    std::filesystem::create_directories(out);
+    const auto part = out / "tube.stl";
+    std::ofstream(part, std::ios::binary) << binary_stl(revolve({{t.bore + t.wall, 0.0}, {t.bore + t.wall, t.height}}, t.sides, t.bore));
+    const auto plan = run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html");
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+    EXPECT_EQ(report["thin_regions"].get<int>(), 0) << report["thin_area_mm2"];
+    EXPECT_EQ(report["collisions"].get<int>(), 0);
+    // One loop a layer, round the wall's middle (the polygon's perimeter there).
+    const double loop = 2.0 * t.sides * (t.bore + t.wall / 2.0) * std::sin(M_PI / t.sides);
+    EXPECT_NEAR(report["deposit_length_mm"].get<double>(), report["layers"].get<int>() * loop, 0.01 * report["layers"].get<int>() * loop);
+    const std::string program = slurp(out / "tube.ngc");
+    EXPECT_NE(program.find("gap fill"), std::string::npos);
+    check_readback(out, "tube");
+    expect_rs274_reads(out, out / "tube.ngc");
+  }
+}
+
 // Bridges of our own (a slab on two legs, two sizes), with defaults: upright, the slab's underside
 // between the legs hangs, and no decomposition holds it (the regions under the slab would reach
 // below the plate or bring the head down to it); turned over, the slab lies on the plate and the

@@ -1,6 +1,6 @@
 // Centre lines of thin pieces (toolpath/gap_fill.cpp): on arcs, wedges and jagged pieces of many
-// vertices, inside the piece, at least the asked width from its boundary, and nothing for pieces
-// too narrow, with holes or degenerate.
+// vertices, inside the piece, at least the asked width from its boundary; a closed loop round a
+// tube's section; nothing for pieces too narrow, with two holes or degenerate.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -80,9 +80,46 @@ TEST(GapFill, LinesStayInsideAndClearOfTheBoundary) {
   EXPECT_GT(with_lines, 50);
 }
 
-TEST(GapFill, NothingForHolesOrDegeneratePieces) {
-  Polygon ring = arc(10.0, 0.6, 360.0, 64);
-  EXPECT_TRUE(centre_lines(Polygon{ring.outer, {Ring{mm(0, 0), mm(1, 0), mm(0, 1)}}}, 0.9, 0.45).empty());
+// A ring between radii R and R + W (N sides each way), counter-clockwise outside, clockwise hole,
+// the hole's centre moved by SHIFT in x.
+Polygon tube(double r, double w, int n, double shift = 0.0) {
+  Polygon p;
+  for (int i = 0; i < n; ++i) p.outer.push_back(mm((r + w) * std::cos(2 * kPi * i / n), (r + w) * std::sin(2 * kPi * i / n)));
+  Ring hole;
+  for (int i = n - 1; i >= 0; --i) hole.push_back(mm(shift + r * std::cos(2 * kPi * i / n), r * std::sin(2 * kPi * i / n)));
+  p.holes.push_back(hole);
+  return p;
+}
+
+TEST(GapFill, ATubesSectionGetsOneClosedLoopRoundItsHole) {
+  // Walls of w·cos(π/n) across, 0.5 mm and more.
+  for (const int n : {8, 64, 400}) {
+    for (const double w : {0.55, 0.8}) {
+      const auto lines = centre_lines(tube(15.0, w, n), 0.9, 0.45);
+      ASSERT_EQ(lines.size(), 1u) << n << " " << w;
+      EXPECT_EQ(lines[0].front(), lines[0].back());  // closed
+      const double sag = (15.0 + w) * (1.0 - std::cos(kPi / n));
+      for (const Point& q : lines[0]) {
+        const double rq = std::hypot(geom2d::to_mm(q.x), geom2d::to_mm(q.y));
+        EXPECT_GT(rq, 15.0 - sag - 0.01) << n;
+        EXPECT_LT(rq, 15.0 + w + 0.01) << n;
+      }
+      // Round the whole ring: about the middle circle's length (the polygon's, for few sides).
+      EXPECT_NEAR(length_mm(lines[0]), 2.0 * n * (15.0 + w / 2.0) * std::sin(kPi / n), 0.05 * w * n + 0.2) << n << " " << w;
+    }
+  }
+  EXPECT_TRUE(centre_lines(tube(15.0, 0.3, 64), 0.9, 0.45).empty());  // narrower than asked all round
+  // The hole moved off centre: the wall runs from 0.2 to 1.4 mm; the line keeps to the wide side.
+  const auto open = centre_lines(tube(15.0, 0.8, 128, 0.6), 0.9, 0.45);
+  ASSERT_EQ(open.size(), 1u);
+  EXPECT_NE(open[0].front(), open[0].back());
+  for (const Point& q : open[0]) EXPECT_LT(geom2d::to_mm(q.x), 15.0);
+}
+
+TEST(GapFill, NothingForTwoHolesOrDegeneratePieces) {
+  Polygon two = tube(15.0, 0.8, 64);
+  two.holes.push_back(tube(2.0, 0.5, 16).holes[0]);  // a second hole, inside the first: not a valid piece
+  EXPECT_TRUE(centre_lines(two, 0.9, 0.45).empty());
   EXPECT_TRUE(centre_lines(Polygon{{mm(0, 0), mm(1, 0), mm(2, 0)}, {}}, 0.9, 0.45).empty());  // collinear
   EXPECT_TRUE(centre_lines(Polygon{{mm(0, 0), mm(1, 0)}, {}}, 0.9, 0.45).empty());
   EXPECT_TRUE(centre_lines(Polygon{{mm(0, 0), mm(5, 0), mm(5, 1), mm(0, 1), mm(0, 0), mm(5, 1)}, {}}, 0.9, 0.45).empty());  // crossing
