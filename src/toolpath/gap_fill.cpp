@@ -167,9 +167,9 @@ double length(const std::vector<Node>& run) {
 
 // The middle of a thin ring between OUTER and HOLE (mm, each a closed loop): for each point of
 // OUTER, the midpoint to the nearest point of HOLE, with half that distance as the half width; in
-// OUTER's order, closed (the last is the first). A wall narrower than a bead is a thin ring, so this
-// is its centre line. (The straight skeleton of a uniform ring collapses everywhere at once, which
-// costs CGAL its exact arithmetic: tens of milliseconds a layer.)
+// OUTER's order (the loop closes from the last back to the first). A wall narrower than a bead is
+// a thin ring, so this is its centre line. (The straight skeleton of an even ring collapses
+// everywhere at once, which costs CGAL its exact arithmetic: tens of milliseconds a layer.)
 std::vector<Node> loop_round_hole(const std::vector<Kernel::Point_2>& outer, const std::vector<Kernel::Point_2>& hole) {
   std::vector<Node> loop;
   const std::size_t m = hole.size();
@@ -185,7 +185,6 @@ std::vector<Node> loop_round_hole(const std::vector<Kernel::Point_2>& outer, con
     }
     loop.push_back({(ox + bx) / 2.0, (oy + by) / 2.0, best / 2.0});
   }
-  if (!loop.empty()) loop.push_back(loop.front());
   return loop;
 }
 
@@ -227,8 +226,7 @@ std::vector<geom2d::Ring> centre_lines(const geom2d::Polygon& piece, double bead
   } else {
     // Round the hole, closed; opened at its narrowest point when that is under the width, so that
     // the runs are the parts wide enough.
-    std::vector<Node> loop = loop_round_hole(points, holes.front());
-    loop.pop_back();
+    const std::vector<Node> loop = loop_round_hole(points, holes.front());
     if (loop.size() < 3) return {};
     std::size_t narrowest = 0;
     for (std::size_t i = 1; i < loop.size(); ++i) {
