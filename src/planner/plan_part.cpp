@@ -5,10 +5,13 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <numbers>
 
 #include "polyaxis/mesh/plane_cut.h"
@@ -65,10 +68,51 @@ struct Candidate {
   bool root_at_lowest = false;
 };
 
+// What every decomposition of one part computes alike, computed once: the count of faces that cross
+// another and the centroidal axis from each start direction. Candidates may ask side by side; each
+// value is computed by the first that asks, the others wait for it.
+class PartMemo {
+ public:
+  explicit PartMemo(const mesh::RepairedMesh& part) : part_(part) {}
+
+  std::size_t crossing_faces() {
+    std::call_once(crossing_once_, [&] {
+      crossing_ = part_.self_intersecting.empty() ? mesh::self_intersecting_faces(part_.mesh).size() : part_.self_intersecting.size();
+    });
+    return crossing_;
+  }
+
+  const core::Result<analysis::CentroidalAxis>& axis(const analysis::CentroidalAxisOptions& options) {
+    std::shared_ptr<AxisEntry> entry;
+    {
+      const std::lock_guard lock(mutex_);
+      const Vec3 s = options.start_direction;
+      auto& slot = axes_[{s.x, s.y, s.z}];
+      if (!slot) slot = std::make_shared<AxisEntry>();
+      entry = slot;
+    }
+    std::call_once(entry->once, [&] { entry->axis.emplace(analysis::centroidal_axis(part_.mesh, part_.topology, options)); });
+    return *entry->axis;
+  }
+
+ private:
+  struct AxisEntry {
+    std::once_flag once;
+    std::optional<core::Result<analysis::CentroidalAxis>> axis;
+  };
+  const mesh::RepairedMesh& part_;
+  std::once_flag crossing_once_;
+  std::size_t crossing_ = 0;
+  std::mutex mutex_;
+  std::map<std::array<double, 3>, std::shared_ptr<AxisEntry>> axes_;
+};
+
+// STOP as plan_decomposed's.
 core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                    const process::ProcessConfig& process, const PlanPartOptions& o) {
+                                    const process::ProcessConfig& process, const PlanPartOptions& o, const std::atomic<bool>* stop = nullptr) {
   PlanOptions po = o.plan;
   po.direction = o.direction;
+  po.stop = stop;
   auto plan = make_plan(part, machine, process, po);
   if (!plan) return plan.error();
   return Candidate{std::move(plan.value()), std::nullopt, Strategy::kSingle, {}};
@@ -271,12 +315,12 @@ core::Status mark_prebuilt(std::vector<PlanRegion>& regions, const PlanPartOptio
 // error that nobody reads); null when it always is.
 core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                         const process::ProcessConfig& process, const PlanPartOptions& o,
-                                        const analysis::RootBase& root_base, const std::atomic<bool>* stop = nullptr) {
+                                        const analysis::RootBase& root_base, PartMemo& memo, const std::atomic<bool>* stop = nullptr) {
   // The decomposition's exact cuts (CGAL corefinement) need a solid whose surface does not cross
   // itself. A few crossing faces, where a part's pieces were fused imperfectly (two_branches: 16
   // of 6 744), are cut through where the plane misses them; a surface where many cross is a pile of
   // overlapping bodies, on which the cuts are undefined and can run for minutes.
-  const std::size_t crossing = part.self_intersecting.empty() ? mesh::self_intersecting_faces(part.mesh).size() : part.self_intersecting.size();
+  const std::size_t crossing = memo.crossing_faces();
   if (static_cast<double>(crossing) > kMaxCrossingShare * static_cast<double>(part.mesh.triangles.size())) {
     return core::make_error(core::ErrorCode::kInfeasible,
                             fmt::format("the part's surface crosses itself ({} faces): the cuts between regions need a clean solid", crossing));
@@ -285,7 +329,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   if (!root_dir) return root_dir.error();
   analysis::CentroidalAxisOptions axis_options;
   axis_options.start_direction = analysis::nearest_major_direction(root_dir.value());
-  auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
+  const auto& axis = memo.axis(axis_options);
   if (!axis) return axis.error();
   if (stop != nullptr && stop->load()) return core::make_error(core::ErrorCode::kInfeasible, "not wanted any more");
   analysis::DecomposeOptions dopt;
@@ -363,35 +407,10 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   auto plan = make_plan(part, machine, process, po, regions);
   if (!plan) return plan.error();
   c.plan = std::move(plan.value());
-  c.axis = std::move(axis.value());
+  c.axis = axis.value();
   return c;
 }
 
-// A ceiling: faces turned down within kCeilingDeg of the build direction's opposite, more than
-// the thickest layer above the part's lowest point, of kCeilingMm2 or more in all. No torch tilt
-// holds a ceiling (the sideways step per layer is bounded: support.h), so one direction leaves it
-// unsupported.
-constexpr double kCeilingDeg = 10.0;
-constexpr double kCeilingMm2 = 1.0;
-
-bool has_ceiling(const mesh::Mesh& m, Vec3 d, double layer_mm) {
-  d = core::normalized(d);
-  double lowest = INFINITY;
-  for (const Vec3& v : m.vertices) lowest = std::min(lowest, core::dot(v, d));
-  const double down_cos = std::cos(kCeilingDeg * std::numbers::pi / 180.0);
-  double area = 0.0;
-  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-    const Vec3 n = mesh::face_area_vector(m, f);
-    const double a = core::norm(n);
-    if (a == 0.0 || core::dot(n, d) > -down_cos * a) continue;
-    const auto& t = m.triangles[f];
-    const double low = std::min({core::dot(m.vertices[t[0]], d), core::dot(m.vertices[t[1]], d), core::dot(m.vertices[t[2]], d)});
-    if (low - lowest > layer_mm) area += 0.5 * a;
-  }
-  return area >= kCeilingMm2;
-}
-
-// True when A is the better plan: less unsupported area, then fewer regions, then fewer reorientations.
 bool better(const Plan& a, const Plan& b) {
   if (std::abs(a.unsupported_area_mm2 - b.unsupported_area_mm2) > kUnsupportedNoiseMm2) return a.unsupported_area_mm2 < b.unsupported_area_mm2;
   if (a.regions != b.regions) return a.regions < b.regions;
@@ -423,83 +442,61 @@ core::Result<Candidate> choose_on_substrate(const mesh::RepairedMesh& part, cons
   return turned;
 }
 
-core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
-                               const PlanPartOptions& o, std::string& why) {
-  if (o.substrate) return choose_on_substrate(part, machine, process, o, why);
-  if (!o.prebuilt.empty()) {
-    if (o.strategy == Strategy::kSingle) {
-      return core::make_error(core::ErrorCode::kUsage, "--prebuilt names regions of the decomposition; it contradicts --strategy single");
+// The candidates of an automatic choice, in the order they are taken: the first support-free one
+// ends the choice, and of the others the better one (better()) is kept, the earlier on a tie.
+enum AutoCandidate : std::size_t { kOneDirection, kDecomposition, kFromLowest, kOneTurnedOver, kDecompositionTurnedOver, kAutoCandidates };
+constexpr std::array<const char*, kAutoCandidates> kAutoLabels = {"one build direction", "the decomposition",
+                                                                  "the decomposition from the lowest point", "one build direction turned over",
+                                                                  "the decomposition turned over"};
+
+// The automatic choice. The candidates are made in two lanes side by side (the directions in one,
+// the decompositions in the other), and a candidate is stopped once one before it is support-free:
+// the choice is the one made taking them one after the other, in less time.
+core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                    const process::ProcessConfig& process, const PlanPartOptions& o, PartMemo& memo, std::string& why) {
+  PlanPartOptions over = o;  // the part turned over
+  over.direction = o.direction * -1.0;
+  analysis::RootBase lowest;
+  lowest.kind = analysis::RootBase::Kind::kLowest;
+  const bool may_turn_over = o.root_base.kind == analysis::RootBase::Kind::kAuto;
+  std::array<std::optional<core::Result<Candidate>>, kAutoCandidates> made;
+  std::array<std::atomic<bool>, kAutoCandidates> unwanted{};
+  auto make = [&](std::size_t i, auto&& plan) {
+    if (unwanted[i].load()) return;
+    made[i].emplace(plan(&unwanted[i]));
+    if (made[i]->ok() && made[i]->value().plan.unsupported_area_mm2 == 0.0) {
+      for (std::size_t j = i + 1; j < kAutoCandidates; ++j) unwanted[j] = true;
     }
-    why = fmt::format("the part's regions, each along its own direction, region{} {} prebuilt (--prebuilt)", o.prebuilt.size() == 1 ? "" : "s",
-                      fmt::join(o.prebuilt, ", "));
-    return plan_decomposed(part, machine, process, o, o.root_base);
-  }
-  if (o.strategy == Strategy::kSingle) {
-    why = "one region along the given direction (--strategy single)";
-    return plan_single(part, machine, process, o);
-  }
-  if (o.strategy == Strategy::kDecompose) {
-    why = "the part's regions, each along its own direction (--strategy decompose)";
-    return plan_decomposed(part, machine, process, o, o.root_base);
-  }
-  // Auto: one direction; then the decomposition rooted as asked, at the lowest point; then with the
-  // part turned over, one direction and the decomposition; the best that succeeds.
+  };
+  const auto progress = core::ProgressScope::current();  // each lane may run on a worker thread
+  tbb::parallel_invoke(
+      [&] {
+        const core::ProgressScope scope(progress);
+        make(kOneDirection, [&](auto stop) { return plan_single(part, machine, process, o, stop); });
+        if (may_turn_over) make(kOneTurnedOver, [&](auto stop) { return plan_single(part, machine, process, over, stop); });
+      },
+      [&] {
+        const core::ProgressScope scope(progress);
+        make(kDecomposition, [&](auto stop) { return plan_decomposed(part, machine, process, o, o.root_base, memo, stop); });
+        if (!may_turn_over) return;
+        // Rooted at the lowest point it would give the same tree as the decomposition rooted there.
+        const bool at_lowest = made[kDecomposition] && made[kDecomposition]->ok() && made[kDecomposition]->value().root_at_lowest;
+        if (!at_lowest) make(kFromLowest, [&](auto stop) { return plan_decomposed(part, machine, process, o, lowest, memo, stop); });
+        make(kDecompositionTurnedOver, [&](auto stop) { return plan_decomposed(part, machine, process, over, o.root_base, memo, stop); });
+      });
   std::vector<std::string> refused;
   std::optional<Candidate> best;
   std::string best_label;
   std::optional<core::ErrorCode> first_code;
-  bool root_at_lowest = false;  // a decomposition so far was rooted at the lowest point
-  PlanPartOptions over = o;     // the part turned over
-  over.direction = o.direction * -1.0;
-  std::optional<core::Result<Candidate>> over_early;  // its decomposition, made ahead
-  std::atomic<bool> over_unwanted{false};
-  auto consider = [&](core::Result<Candidate> c, const std::string& label) {
+  for (std::size_t i = 0; i < kAutoCandidates && !(best && best->plan.unsupported_area_mm2 == 0.0); ++i) {
+    if (!made[i]) continue;
+    core::Result<Candidate>& c = *made[i];
     if (!c) {
       if (!first_code) first_code = c.error().code;
-      return refused.push_back(fmt::format("{}: {}", label, c.error().message));
+      refused.push_back(fmt::format("{}: {}", kAutoLabels[i], c.error().message));
+      continue;
     }
-    root_at_lowest = root_at_lowest || c.value().root_at_lowest;
-    if (!best || better(c.value().plan, best->plan)) best = std::move(c.value()), best_label = label;
-  };
-  auto done = [&] { return best && best->plan.unsupported_area_mm2 == 0.0; };
-  if (has_ceiling(part.mesh, o.direction, process.layer_max_mm)) {
-    // One direction cannot be support-free: the decomposition is needed, and is made alongside it.
-    // One direction is the shorter side: after it, that side makes the decomposition turned over
-    // ahead of being asked; it is taken (below) only where nothing before it is support-free, and
-    // stopped once the decomposition is. The choice is the same as one candidate after the other,
-    // in less time.
-    std::optional<core::Result<Candidate>> single, decomposed;
-    const bool may_turn_over = o.root_base.kind == analysis::RootBase::Kind::kAuto;
-    const auto progress = core::ProgressScope::current();  // each side may run on a worker thread
-    tbb::parallel_invoke(
-        [&] {
-          const core::ProgressScope scope(progress);
-          single.emplace(plan_single(part, machine, process, o));
-          if (may_turn_over && !over_unwanted.load()) over_early.emplace(plan_decomposed(part, machine, process, over, o.root_base, &over_unwanted));
-        },
-        [&] {
-          const core::ProgressScope scope(progress);
-          decomposed.emplace(plan_decomposed(part, machine, process, o, o.root_base));
-          if (decomposed->ok() && decomposed->value().plan.unsupported_area_mm2 == 0.0) over_unwanted = true;
-        });
-    consider(std::move(*single), "one build direction");
-    consider(std::move(*decomposed), "the decomposition");
-  } else {
-    consider(plan_single(part, machine, process, o), "one build direction");
-    if (!done()) consider(plan_decomposed(part, machine, process, o, o.root_base), "the decomposition");
-  }
-  if (!done() && o.root_base.kind == analysis::RootBase::Kind::kAuto) {
-    if (!root_at_lowest) {
-      analysis::RootBase lowest;
-      lowest.kind = analysis::RootBase::Kind::kLowest;
-      consider(plan_decomposed(part, machine, process, o, lowest), "the decomposition from the lowest point");
-    }
-    // Turned over, one direction first: a part whose top is its widest face (a table on its legs)
-    // stands on that face without support, in one region.
-    if (!done()) consider(plan_single(part, machine, process, over), "one build direction turned over");
-    if (!done()) {
-      consider(over_early ? std::move(*over_early) : plan_decomposed(part, machine, process, over, o.root_base), "the decomposition turned over");
-    }
+    if (!best || better(c.value().plan, best->plan)) best = std::move(c.value()), best_label = kAutoLabels[i];
   }
   if (!best) {
     why = fmt::format("nothing could be planned: {}", fmt::join(refused, "; "));
@@ -510,6 +507,33 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
                     p.unsupported_area_mm2 == 0.0 ? std::string("support-free") : fmt::format("{} mm2 unsupported", area_text(p.unsupported_area_mm2)),
                     refused.empty() ? "" : fmt::format("; refused: {}", fmt::join(refused, "; ")));
   return std::move(*best);
+}
+
+
+core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                               const PlanPartOptions& o, std::string& why) {
+  PartMemo memo(part);
+  if (o.substrate) return choose_on_substrate(part, machine, process, o, why);
+  if (!o.prebuilt.empty()) {
+    if (o.strategy == Strategy::kSingle) {
+      return core::make_error(core::ErrorCode::kUsage, "--prebuilt names regions of the decomposition; it contradicts --strategy single");
+    }
+    why = fmt::format("the part's regions, each along its own direction, region{} {} prebuilt (--prebuilt)", o.prebuilt.size() == 1 ? "" : "s",
+                      fmt::join(o.prebuilt, ", "));
+    return plan_decomposed(part, machine, process, o, o.root_base, memo);
+  }
+  if (o.strategy == Strategy::kSingle) {
+    why = "one region along the given direction (--strategy single)";
+    return plan_single(part, machine, process, o);
+  }
+  if (o.strategy == Strategy::kDecompose) {
+    why = "the part's regions, each along its own direction (--strategy decompose)";
+    return plan_decomposed(part, machine, process, o, o.root_base, memo);
+  }
+  // Auto: one direction; then the decomposition rooted as asked, at the lowest point; then with the
+  // part turned over, one direction and the decomposition; the best that succeeds, taken in that
+  // order up to the first that is support-free.
+  return choose_auto(part, machine, process, o, memo, why);
 }
 
 // The program of a chosen plan: G-code, its simulation against the plan and its verification

@@ -137,15 +137,60 @@ class Cutter {
   }
 
  private:
+  // An island is kept when it overlaps the section below grown by REACH_MM. The growth (an offset,
+  // the costly part) is made only for islands that neither lie beyond its box nor have a corner
+  // strictly inside the section below (then it overlaps it).
   static void keep_near(Cut& c, const Cut& near, double reach_mm) {
-    const auto zone = geom2d::rings_of(geom2d::offset(project(near.s.polygons, near.frame, c.frame), reach_mm));
+    const std::vector<geom2d::Polygon> under = project(near.s.polygons, near.frame, c.frame);
+    Box2 grown = box_of(under);
+    const std::int64_t margin = geom2d::to_units(reach_mm) + kBoxSlackUnits;
+    grown.x0 -= margin, grown.y0 -= margin, grown.x1 += margin, grown.y1 += margin;
+    std::optional<std::vector<geom2d::Ring>> zone;
     std::vector<geom2d::Polygon> kept;
     for (geom2d::Polygon& p : c.s.polygons) {
-      const double area = geom2d::area_mm2(p);
-      if (geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of({p}), zone)) < area) kept.push_back(std::move(p));
+      if (!grown.meets(box_of({p}))) continue;
+      bool overlaps = std::any_of(p.outer.begin(), p.outer.end(), [&](geom2d::Point q) { return strictly_inside(q, under); });
+      if (!overlaps) {
+        if (!zone) zone = geom2d::rings_of(geom2d::offset(under, reach_mm));
+        overlaps = geom2d::area_mm2(geom2d::difference_rings(geom2d::rings_of({p}), *zone)) < geom2d::area_mm2(p);
+      }
+      if (overlaps) kept.push_back(std::move(p));
     }
     c.s.polygons = std::move(kept);
     c.s.area_mm2 = geom2d::area_mm2(c.s.polygons);
+  }
+
+  // Integer bounds of a set of polygons' outer rings.
+  struct Box2 {
+    std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
+    bool meets(const Box2& o) const { return x0 <= o.x1 && o.x0 <= x1 && y0 <= o.y1 && o.y0 <= y1; }
+  };
+  static Box2 box_of(const std::vector<geom2d::Polygon>& polygons) {
+    Box2 b;
+    for (const geom2d::Polygon& p : polygons) {
+      for (const geom2d::Point& q : p.outer) b.x0 = std::min(b.x0, q.x), b.y0 = std::min(b.y0, q.y), b.x1 = std::max(b.x1, q.x), b.y1 = std::max(b.y1, q.y);
+    }
+    return b;
+  }
+  // The offset's arcs are approximated inside its true outline; this covers its rounding.
+  static constexpr std::int64_t kBoxSlackUnits = 1000;
+
+  // -1 on an edge of RING, else 1 strictly inside it, 0 outside (exact).
+  static int where(geom2d::Point p, const geom2d::Ring& ring) {
+    bool in = false;
+    for (std::size_t i = 0, n = ring.size(); i < n; ++i) {
+      const geom2d::Point a = ring[i], b = ring[(i + 1) % n];
+      const int o = geom2d::orientation(a, b, p);
+      if (o == 0 && std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y)) return -1;
+      if ((a.y > p.y) != (b.y > p.y) && (o > 0) == (b.y > a.y)) in = !in;
+    }
+    return in ? 1 : 0;
+  }
+  // P strictly inside one of POLYGONS (inside its outer ring, outside and off its holes).
+  static bool strictly_inside(geom2d::Point p, const std::vector<geom2d::Polygon>& polygons) {
+    return std::any_of(polygons.begin(), polygons.end(), [&](const geom2d::Polygon& poly) {
+      return where(p, poly.outer) == 1 && std::none_of(poly.holes.begin(), poly.holes.end(), [&](const geom2d::Ring& h) { return where(p, h) != 0; });
+    });
   }
 
   static constexpr std::size_t kClusterFaces = 32;
