@@ -13,8 +13,11 @@ namespace {
 
 // Facets whose unit normals differ by less than this (and share an edge) belong to one planar face.
 constexpr double kCoplanarCos = 0.9999999;
-// A neighbour's far corner this far above a face's plane makes the shared edge concave, mm.
+// A neighbour's far corner this far above a face's plane makes the shared edge concave, mm, when
+// the two meet at a crease: their normals at least kCreaseDeg apart. The facets of a tessellated
+// curve (a bore's, 3.75° apart at 96 sides) meet at shallower steps that are not edges of the part.
 constexpr double kConcaveRiseMm = 1e-9;
+constexpr double kCreaseDeg = 20.0;
 
 }  // namespace
 
@@ -46,6 +49,7 @@ std::vector<PlanarFace> planar_faces(const mesh::Mesh& m) {
   std::vector<Vec3> normal(nf);
   for (std::size_t f = 0; f < nf; ++f) normal[f] = core::normalized(mesh::face_area_vector(m, f));
   std::vector<std::uint32_t> face_of(nf, mesh::kNoHalfEdge);
+  const double crease_cos = std::cos(kCreaseDeg * kPi / 180.0);
   std::vector<PlanarFace> faces;
   std::vector<std::uint32_t> stack;
   for (std::uint32_t seed = 0; seed < nf; ++seed) {
@@ -72,7 +76,7 @@ std::vector<PlanarFace> planar_faces(const mesh::Mesh& m) {
           continue;
         }
         const Vec3 far = m.vertices[m.triangles[g][(o % 3 + 2) % 3]];
-        if (core::dot(far - face.point, face.normal) > kConcaveRiseMm) face.concave_edge = true;
+        if (core::dot(normal[g], face.normal) <= crease_cos && core::dot(far - face.point, face.normal) > kConcaveRiseMm) face.concave_edge = true;
       }
     }
     faces.push_back(std::move(face));

@@ -27,7 +27,7 @@ struct PlanarFace {
   Vec3 point;   // a corner of one of its facets
   double area_mm2 = 0.0;
   std::uint32_t facets = 0;
-  bool concave_edge = false;  // a neighbouring facet across its boundary rises above its plane
+  bool concave_edge = false;  // a neighbouring facet across its boundary rises above its plane at a crease
   std::vector<std::uint32_t> facet_ids;
 };
 

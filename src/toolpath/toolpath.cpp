@@ -174,6 +174,14 @@ class LayerPlanner {
       const double angle = (o_.fill_angle_deg + (layer_.index % 2 == 0 ? 0.0 : 90.0)) * kPi / 180.0;
       std::vector<Candidate> fill;
       for (const Polygon& piece : region) {
+        // A piece narrower than the line spacing (what two perimeters leave of a wall a few beads
+        // thick): zigzag lines would cross it in short strokes, leaving it bare between them where
+        // they run nearly along it; one bead along its middle covers it.
+        if (geom2d::offset({piece}, -s / 2.0).empty()) {
+          std::vector<Ring> middle = detail::centre_lines(piece, w, kGapFillMinWidthBeads * w);
+          for (Ring& line : middle) fill.push_back({PathKind::kFill, 0, false, false, false, std::move(line)});
+          if (!middle.empty()) continue;
+        }
         for (Ring& line : detail::zigzag(piece, angle, geom2d::to_units(s))) {
           fill.push_back({PathKind::kFill, 0, false, false, false, std::move(line)});
         }

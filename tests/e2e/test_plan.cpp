@@ -289,6 +289,31 @@ TEST(PlanGapFill, TaperedFinsAreLaidAlongTheirMiddleAndReadBackGrounded) {
   }
 }
 
+// Twisted bars of our own (OpenSCAD's linear_extrude with twist), a few beads wide: two perimeters
+// leave an interior narrower than a bead, slanting across the fill lines. With defaults each is
+// support-free and reads back with every bead on the one below (a zigzag across the strip left it
+// bare between its strokes, and the next layer's beads over nothing).
+TEST(PlanFill, TwistedBarsAFewBeadsWideReadBackWithEveryBeadGrounded) {
+  TempDir dir;
+  struct Bar {
+    double length, width, twist_deg, height;
+    std::uint32_t levels;
+  };
+  for (const Bar b : {Bar{30.0, 4.0, -90.0, 50.0, 60}, Bar{24.0, 4.3, -60.0, 30.0, 25}, Bar{26.0, 3.9, 75.0, 40.0, 90}}) {
+    const auto out = dir / fmt::format("bar_{}", b.twist_deg);
+    std::filesystem::create_directories(out);
+    const auto part = out / "bar.stl";
+    std::ofstream(part, std::ios::binary) << binary_stl(twisted_bar(b.length, b.width, b.twist_deg, b.height, b.levels));
+    const auto plan = run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html");
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+    EXPECT_EQ(report["build_check"]["ungrounded_samples"].get<int>(), 0) << out << report["build_check"]["problems"];
+    check_readback(out, "bar");
+    expect_rs274_reads(out, out / "bar.ngc");
+  }
+}
+
 // Thin-walled tubes of our own, one bead thick (walls of 0.6 and 0.8 mm, bead 0.9 mm), with
 // defaults: no perimeter fits such a wall, so before gap fill nothing could be planned. Each layer
 // is one closed bead round the middle of the wall, the whole tube is laid, and it reads back clean.

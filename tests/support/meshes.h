@@ -305,6 +305,34 @@ inline RawMesh helical_bar(double w, double r, double turns, double h, double st
   return m;
 }
 
+// A bar of L × W turning about Z by TWIST_DEG from z = 0 to H (OpenSCAD's linear_extrude with
+// twist), in LEVELS slices: its sections between slices are the quads' diagonals cut flat.
+inline RawMesh twisted_bar(double l, double w, double twist_deg, double h, std::uint32_t levels) {
+  RawMesh m;
+  const double pi = 3.14159265358979323846;
+  const double corner[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
+  for (std::uint32_t k = 0; k <= levels; ++k) {
+    const double z = h * k / levels, a = twist_deg * pi / 180.0 * k / levels;
+    for (const auto& c : corner) {
+      const double x = l * c[0], y = w * c[1];
+      m.points.push_back({x * std::cos(a) - y * std::sin(a), x * std::sin(a) + y * std::cos(a), z});
+    }
+  }
+  for (std::uint32_t k = 0; k < levels; ++k) {
+    for (std::uint32_t i = 0; i < 4; ++i) {
+      const std::uint32_t a = 4 * k + i, b = 4 * k + (i + 1) % 4;
+      m.triangles.push_back({a, b, b + 4});
+      m.triangles.push_back({a, b + 4, a + 4});
+    }
+  }
+  const std::uint32_t t = 4 * levels;
+  m.triangles.push_back({0, 2, 1});
+  m.triangles.push_back({0, 3, 2});
+  m.triangles.push_back({t, t + 1, t + 2});
+  m.triangles.push_back({t, t + 2, t + 3});
+  return m;
+}
+
 // A spherical cap on the XY plane: the sphere of radius R cut at height H (0 < H <= R) above its
 // centre's side: its base disc at z = 0 and its top at z = H; N segments around, M rings.
 inline RawMesh spherical_cap(double r, double h, std::uint32_t n, std::uint32_t m) {

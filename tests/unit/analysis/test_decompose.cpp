@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "analysis/build_order.h"
+#include "analysis/region_geometry.h"
 #include "decompose_checks.h"
 #include "polyaxis/analysis/decompose.h"
 #include "polyaxis/io/read_part.h"
@@ -44,6 +45,31 @@ void expect_partition(const RegionTree& tree, double volume) {
     sum += r.volume_mm3;
   }
   EXPECT_NEAR(sum, volume, 1e-3 * volume);
+}
+
+// Ruan's splitting faces are planar faces with a concave edge. The facets of a tessellated bore meet
+// their neighbours at shallow concave steps (3.75° at 96 sides, 11.25° at 32): not edges of the
+// part, so no facet of a tube counts; the inner corner of an L (90°) does, at any tessellation.
+TEST(PlanarFaces, FacetsOfATessellatedBoreHaveNoConcaveEdgeAndAnInnerCornerHas) {
+  for (const std::uint32_t sides : {32u, 96u, 400u}) {
+    auto r = mesh::repair(polyaxis::test::revolve({{15.0, 0.0}, {15.0, 40.0}}, sides, 9.0));
+    ASSERT_TRUE(r.ok());
+    const auto faces = detail::planar_faces(r.value().mesh);
+    EXPECT_GE(faces.size(), sides + 2);
+    for (const detail::PlanarFace& f : faces) EXPECT_FALSE(f.concave_edge) << sides << " sides, face at " << f.point.x << " " << f.point.y;
+  }
+  auto l = mesh::repair(polyaxis::test::prism_xz({{0, 0}, {40, 0}, {40, 10}, {10, 10}, {10, 40}, {0, 40}}, 20.0));
+  ASSERT_TRUE(l.ok());
+  int creased = 0;
+  for (const detail::PlanarFace& f : detail::planar_faces(l.value().mesh)) {
+    const bool inner_top = f.normal.z > 0.99 && std::fabs(f.point.z - 10.0) < 1e-9 && f.area_mm2 > 500.0;
+    const bool inner_side = f.normal.x > 0.99 && std::fabs(f.point.x - 10.0) < 1e-9;
+    if (inner_top || inner_side) {
+      EXPECT_TRUE(f.concave_edge);
+      ++creased;
+    }
+  }
+  EXPECT_EQ(creased, 2);
 }
 
 TEST(Decompose, LBlockSplitsAtThePlaneXEquals20) {

@@ -352,6 +352,39 @@ TEST(Toolpath, WallsAndFinsBetweenHalfABeadAndABeadGetOneBeadAlongTheirMiddle) {
   }
 }
 
+TEST(Toolpath, AnInteriorNarrowerThanTheLineSpacingGetsOneBeadAlongItsMiddleAtAnyTurn) {
+  // Bars a few beads wide (bead 0.9 mm, two perimeters: 3.6 mm of perimeter beads) leave an
+  // interior of 0.2–0.8 mm. Turned about Z by any angle, on layers whose fill turns by 90° from one
+  // to the next, each layer's fill is one bead along the bar's middle (a zigzag would cross the
+  // strip in short strokes, or run beside it and leave it bare).
+  ToolpathOptions o;
+  o.bead_width_mm = 0.9;
+  o.perimeters = 2;
+  constexpr double kLength = 40.0;
+  for (const double width : {4.1, 4.3, 4.4}) {
+    for (const double turn_deg : {0.0, 6.0, 30.0, 45.0, 84.0, 90.0}) {
+      io::RawMesh bar = test::box({-kLength / 2.0, -width / 2.0, 0}, {kLength / 2.0, width / 2.0, 2});
+      const double c = std::cos(turn_deg * kPi / 180.0), s = std::sin(turn_deg * kPi / 180.0);
+      for (auto& p : bar.points) p = {c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]};
+      const mesh::Mesh part = repaired(std::move(bar));
+      const auto layers = plan(part, sliced(part, 0.5), o);
+      ASSERT_EQ(layers.size(), 4u);
+      for (const auto& l : layers) {
+        const auto fill = of_kind(l, PathKind::kFill);
+        ASSERT_EQ(fill.size(), 1u) << width << " " << turn_deg << " layer " << l.layer;
+        EXPECT_FALSE(fill[0]->gap_fill);
+        for (const PathPoint& q : fill[0]->points) {
+          const double across = -s * q.position_mm.x + c * q.position_mm.y;  // from the bar's middle
+          EXPECT_NEAR(across, 0.0, 1e-5) << width << " " << turn_deg;
+        }
+        // The skeleton's spine of the interior: its length less the interior's width.
+        const double interior = width - 4.0 * o.bead_width_mm;
+        EXPECT_NEAR(path_length(*fill[0]), kLength - 4.0 * o.bead_width_mm - interior, 1e-3) << width << " " << turn_deg;
+      }
+    }
+  }
+}
+
 TEST(Toolpath, GapFillIsLaidOnlyOverTheBeadsOfTheLayerBelow) {
   // A wall 0.8 mm thick (too thin to lay) under 1.5 mm (gap fill): nothing is laid over the unlaid
   // layers, so the upper part is reported too. The other way up, the lower part is laid and the
