@@ -623,6 +623,7 @@ core::Status add_region(Plan& plan, PlanRegion& region, const std::vector<PlanRe
   tp.bead_width_mm = process.bead_width_mm;
   tp.perimeters = options.perimeters;
   tp.self_supporting_deg = process.self_supporting_deg;
+  tp.max_step_mm = process.max_step_bead_share * process.bead_width_mm;
   tp.tilt_on_overhang = options.tilt_on_overhang && machine::has_rotary_axes(machine.kind);
   tp.threads = options.threads;
   tp.region = region.id;

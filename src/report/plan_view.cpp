@@ -152,6 +152,9 @@ PlanView make_plan_view(const planner::Plan& plan, const machine::MachineConfig&
       add_rings(l.polygons, l.frame, v.contours);
     }
     add_rings(r.unsupported, l.frame, v.unsupported);
+    if (k < plan.toolpaths.size()) {
+      for (const toolpath::ThinRegion& t : plan.toolpaths[k].thin) v.thin.push_back({t.where_mm, t.area_mm2, t.what});
+    }
   }
   view.program = plan.program;
   view.rules = planner::rule_base(machine, process, plan);
@@ -234,7 +237,15 @@ std::string plan_view_json(const PlanView& view) {
     put_rings(out, l.contours);
     out += ",\"unsupported\":";
     put_rings(out, l.unsupported);
-    out += '}';
+    out += ",\"thin\":[";
+    for (std::size_t i = 0; i < l.thin.size(); ++i) {
+      out += i ? ",{\"where\":" : "{\"where\":";
+      put_vec(out, l.thin[i].where);
+      fmt::format_to(std::back_inserter(out), ",\"area_mm2\":{:.6f},\"what\":", l.thin[i].area_mm2);
+      put_string(out, l.thin[i].what);
+      out += '}';
+    }
+    out += "]}";
   }
   out += "],\n\"program\":[\n";
   for (std::size_t i = 0; i < view.program.size(); ++i) {

@@ -227,6 +227,9 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
       layer.c_deg = get_range(l.at("c_deg"));
       layer.contours = get_rings(l.at("contours"));
       layer.unsupported = get_rings(l.at("unsupported"));
+      if (l.contains("thin")) {  // plans written before the thin pieces were listed have none
+        for (const Json& t : l.at("thin")) layer.thin.push_back({get_vec(t.at("where")), get_finite(t.at("area_mm2")), t.at("what").get<std::string>()});
+      }
       layer.order.region = layer.region;
       if (l.contains("order")) {  // plans written before the layer order was recorded have none
         const Json& o = l.at("order");

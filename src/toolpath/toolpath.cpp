@@ -407,6 +407,7 @@ core::Status validate(const ToolpathOptions& o) {
   if (!(o.self_supporting_deg >= 0.0 && o.self_supporting_deg < 90.0)) {
     return make_error(ErrorCode::kUsage, "self-supporting angle: must be in [0, 90) degrees");
   }
+  if (!(o.max_step_mm >= 0.0 && std::isfinite(o.max_step_mm))) return make_error(ErrorCode::kUsage, "max step: must be a finite number >= 0 mm");
   if (o.threads < 0) return make_error(ErrorCode::kUsage, "threads: must be >= 0");
   return {};
 }
@@ -501,9 +502,9 @@ core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& m
     done += r.size();
     if (tbb::this_task_arena::current_thread_index() == 0) progress.update(done);
   });
-  // Gap fill above the first layer is kept within t·tan α of the beads of the layer below, bottom
-  // up: where a thin piece below was too thin to lay, the piece over it is not laid either, and a
-  // line steps out no further than a wall may lean. Such a layer is planned again (few layers have
+  // Gap fill above the first layer is kept within max(t·tan α, max_step_mm) of the beads of the
+  // layer below, bottom up: where a thin piece below was too thin to lay, the piece over it is not
+  // laid either, and a line steps out no further than a wall may. Such a layer is planned again (few layers have
   // gap fill; the rest of a layer is as it was).
   const double tan_alpha = std::tan(options.self_supporting_deg * kPi / 180.0);
   for (std::size_t i = 1; flat.gap_fill && i < layers.size(); ++i) {
@@ -513,7 +514,8 @@ core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& m
     const bool parallel = core::dot(layers[i].frame.d, layers[i - 1].frame.d) >= kParallelCos;
     const double t = parallel ? std::abs(core::dot(layers[i].frame.origin - layers[i - 1].frame.origin, layers[i].frame.d))
                               : layers[i].thickness_range().first;
-    const std::vector<geom2d::Polygon> below = beads_under(result[i - 1], layers[i].frame, result[i], options.bead_width_mm, t * tan_alpha);
+    const double step = std::max(t * tan_alpha, std::min(options.max_step_mm, 0.5 * options.bead_width_mm));
+    const std::vector<geom2d::Polygon> below = beads_under(result[i - 1], layers[i].frame, result[i], options.bead_width_mm, step);
     plan_layer(i, &below);
   }
   for (const std::string& f : failed) {

@@ -282,6 +282,19 @@ TEST(PlanGapFill, TaperedFinsAreLaidAlongTheirMiddleAndReadBackGrounded) {
     } else {
       EXPECT_GT(report["thin_regions"].get<int>(), 0) << out;
     }
+    // plan.json lists every thin piece on its layer: where, how large and why.
+    std::size_t listed = 0;
+    double listed_mm2 = 0.0;
+    const auto plan_json = read_json(out / "plan.json");
+    for (const auto& layer : plan_json["layers"]) {
+      for (const auto& piece : layer["thin"]) {
+        ++listed, listed_mm2 += piece["area_mm2"].get<double>();
+        EXPECT_EQ(piece["where"].size(), 3u);
+        EXPECT_NE(piece["what"].get<std::string>().find("bead"), std::string::npos) << piece;
+      }
+    }
+    EXPECT_EQ(listed, report["thin_regions"].get<std::size_t>()) << out;
+    EXPECT_NEAR(listed_mm2, report["thin_area_mm2"].get<double>(), 1e-3) << out;
     const std::string program = slurp(out / "fin.ngc");
     EXPECT_NE(program.find("gap fill"), std::string::npos) << out;
     check_readback(out, "fin");

@@ -43,6 +43,14 @@ struct ViewLayer {
   std::uint32_t tilted_points = 0, turned_points = 0, eased_points = 0;
   std::vector<std::vector<Vec3>> contours;     // closed rings (last point != first), outer and holes
   std::vector<std::vector<Vec3>> unsupported;  // the unsupported pieces' rings
+  // Pieces no bead covers (toolpath::ThinRegion): where (the piece's centroid, the plan's frame),
+  // how large and why.
+  struct Thin {
+    Vec3 where;
+    double area_mm2 = 0.0;
+    std::string what;
+  };
+  std::vector<Thin> thin;
 };
 
 struct ViewAxis {

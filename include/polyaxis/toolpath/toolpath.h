@@ -95,11 +95,16 @@ struct ToolpathOptions {
   // Pieces too thin for a perimeter get one bead along their middle (kGapFillMinWidthBeads), run
   // as open fill paths after the island's perimeters; false: they are only reported. Above the
   // first layer of a make_toolpaths call the line is kept only where it lies within
-  // t·tan(self_supporting_deg) of the centre lines of the layer below's beads (t the distance
-  // between parallel layers' planes, a tilted layer's least thickness; seen along its normal): a bead never starts over a thin piece
-  // that was not laid, and a line steps out from the one below no further than a wall may lean.
+  // max(t·tan(self_supporting_deg), max_step_mm) of the centre lines of the layer below's beads (t
+  // the distance between parallel layers' planes, a tilted layer's least thickness; seen along its
+  // normal): a bead never starts over a thin piece that was not laid, and a line steps out from the
+  // one below no further than the support check lets a wall step (planner/support.h).
   // On conformal layers there is no gap fill.
   bool gap_fill = true;
+  // The sideways step a bead may take from the one below whatever the angle (the process's
+  // max_step_bead_share × bead width, at most half a bead: the bead then still rests on the one
+  // below by half its width); 0: t·tan(self_supporting_deg) alone.
+  double max_step_mm = 0.0;
   // false: the call's first layer gets no gap fill either, for a first layer that does not stand
   // on the plate (what it rests on is not known here; the planner sets it per region).
   bool gap_fill_first_layer = true;

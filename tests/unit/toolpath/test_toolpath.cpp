@@ -429,6 +429,40 @@ TEST(Toolpath, GapFillIsLaidOnlyOverTheBeadsOfTheLayerBelow) {
   }
 }
 
+TEST(Toolpath, GapFillStepsAsFarAsTheMaxStepLetsAWallLean) {
+  // Walls 1.5 mm thick (gap fill, bead 2 mm) leaning so that each 1 mm layer steps 0.7 or 0.9 mm,
+  // more than t·tan α (0.58 mm) and at most half a bead: with max_step_mm (as the planner sets it
+  // from the process) every layer is laid, each line within max_step_mm of the one below; without
+  // it only the first layer is, and the rest are reported.
+  for (const double shift : {0.7, 0.9}) {
+    const double h = 5.0;
+    const mesh::Mesh wall = repaired(test::prism_xz({{0, 0}, {1.5, 0}, {1.5 + shift * h, h}, {shift * h, h}}, 30.0));
+    ToolpathOptions o;
+    o.max_step_mm = 1.0;
+    const auto laid = plan(wall, sliced(wall, 1.0), o);
+    ASSERT_EQ(laid.size(), 5u);
+    double below_x = 0.0;
+    for (const auto& l : laid) {
+      EXPECT_TRUE(l.thin.empty()) << shift << " layer " << l.layer;
+      const auto gap = gap_fill_of(l);
+      ASSERT_EQ(gap.size(), 1u) << shift << " layer " << l.layer;
+      const double x = gap[0]->points.front().position_mm.x;
+      EXPECT_NEAR(x, shift * (l.layer + 0.5) + 0.75, 1e-3) << shift << " layer " << l.layer;
+      if (l.layer > 0) {
+        EXPECT_LE(x - below_x, o.max_step_mm + 1e-6);
+      }
+      below_x = x;
+    }
+    for (const auto& l : plan(wall, sliced(wall, 1.0), ToolpathOptions{})) {
+      EXPECT_EQ(gap_fill_of(l).size(), l.layer == 0 ? 1u : 0u) << shift << " layer " << l.layer;
+    }
+  }
+  ToolpathOptions bad;
+  bad.max_step_mm = -1.0;
+  const mesh::Mesh box = repaired(test::box({0, 0, 0}, {10, 10, 2}));
+  EXPECT_FALSE(make_toolpaths(box, sliced(box, 1.0), bad).ok());
+}
+
 TEST(Toolpath, SeamsMoveFromLayerToLayer) {
   const mesh::Mesh box = repaired(test::box({0, 0, 0}, {40, 30, 20}));
   const auto layers = plan(box, sliced(box, 1.0), ToolpathOptions{});
