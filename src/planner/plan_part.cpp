@@ -485,28 +485,36 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
         make(kDecompositionTurnedOver, [&](auto stop) { return plan_decomposed(part, machine, process, over, o.root_base, memo, stop); });
       });
   std::vector<std::string> refused;
-  std::optional<Candidate> best;
-  std::string best_label;
+  std::optional<std::size_t> best;
   std::optional<core::ErrorCode> first_code;
-  for (std::size_t i = 0; i < kAutoCandidates && !(best && best->plan.unsupported_area_mm2 == 0.0); ++i) {
-    if (!made[i]) continue;
-    core::Result<Candidate>& c = *made[i];
+  auto plan_of = [&](std::size_t i) -> const Plan& { return made[i]->value().plan; };
+  std::size_t taken = 0;  // candidates taken into the choice: [0, taken)
+  for (; taken < kAutoCandidates && !(best && plan_of(*best).unsupported_area_mm2 == 0.0); ++taken) {
+    if (!made[taken]) continue;
+    const core::Result<Candidate>& c = *made[taken];
     if (!c) {
       if (!first_code) first_code = c.error().code;
-      refused.push_back(fmt::format("{}: {}", kAutoLabels[i], c.error().message));
+      refused.push_back(fmt::format("{}: {}", kAutoLabels[taken], c.error().message));
       continue;
     }
-    if (!best || better(c.value().plan, best->plan)) best = std::move(c.value()), best_label = kAutoLabels[i];
+    if (!best || better(c.value().plan, plan_of(*best))) best = taken;
   }
   if (!best) {
     why = fmt::format("nothing could be planned: {}", fmt::join(refused, "; "));
     return core::make_error(first_code.value_or(core::ErrorCode::kInfeasible), why);
   }
-  const Plan& p = best->plan;
-  why = fmt::format("{} ({} region{}, {}{})", best_label, p.regions, p.regions == 1 ? "" : "s",
-                    p.unsupported_area_mm2 == 0.0 ? std::string("support-free") : fmt::format("{} mm2 unsupported", area_text(p.unsupported_area_mm2)),
+  auto summary = [](const Plan& p) {
+    return fmt::format("{} region{}, {}", p.regions, p.regions == 1 ? "" : "s",
+                       p.unsupported_area_mm2 == 0.0 ? std::string("support-free") : fmt::format("{} mm2 unsupported", area_text(p.unsupported_area_mm2)));
+  };
+  // The candidates it did better than, with what they would have left.
+  std::vector<std::string> outdone;
+  for (std::size_t i = 0; i < taken; ++i) {
+    if (i != *best && made[i] && made[i]->ok()) outdone.push_back(fmt::format("{}: {}", kAutoLabels[i], summary(plan_of(i))));
+  }
+  why = fmt::format("{} ({}{}{})", kAutoLabels[*best], summary(plan_of(*best)), outdone.empty() ? "" : fmt::format("; also tried: {}", fmt::join(outdone, "; ")),
                     refused.empty() ? "" : fmt::format("; refused: {}", fmt::join(refused, "; ")));
-  return std::move(*best);
+  return std::move(made[*best]->value());
 }
 
 

@@ -378,6 +378,12 @@ TEST(PlanTurnedOver, BridgesStandOnTheirSlabInOneRegion) {
     const auto report = read_json(out / "report.json");
     EXPECT_EQ(report["strategy"].get<std::string>(), "single");
     EXPECT_EQ(report["strategy_reason"].get<std::string>().rfind("one build direction turned over", 0), 0u) << report["strategy_reason"];
+    // It names what it did better than: the bridge the right way up leaves its span's underside.
+    const std::regex upright("also tried: one build direction: 1 region, ([0-9.]+) mm2 unsupported");
+    std::smatch m;
+    const std::string reason = report["strategy_reason"].get<std::string>();
+    ASSERT_TRUE(std::regex_search(reason, m, upright)) << reason;
+    EXPECT_GT(std::stod(m[1].str()), 0.5 * s.span * s.depth) << reason;
     EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
     EXPECT_EQ(report["collisions"].get<int>(), 0);
     EXPECT_NEAR(read_json(out / "plan.json")["placement_rotation"][2][2].get<double>(), -1.0, 1e-12);  // the part's +Z down
