@@ -279,6 +279,7 @@ void order_layers(Plan& plan, const machine::MachineConfig& machine, const proce
     paths[k] = std::move(plan.toolpaths[i]);
     paths[k].layer = index;
     for (toolpath::Path& path : paths[k].paths) path.layer = index;
+    for (toolpath::ThinRegion& thin : paths[k].thin) thin.layer = index;
     regions[k] = plan.region_of_layer[i];
     plan.order[k] = seq.records[i];
     for (std::uint32_t& j : plan.order[k].interferes_with) j = position[j];

@@ -8,6 +8,7 @@
 
 #include "planner/sequence.h"
 #include "polyaxis/planner/plan.h"
+#include "polyaxis/planner/plan_part.h"
 #include "polyaxis/post/gcode.h"
 #include "polyaxis/verify/verify.h"
 #include "support/meshes.h"
@@ -42,6 +43,31 @@ std::vector<PlanRegion> three_regions() {
   r[0].id = 0, r[1].id = 1, r[2].id = 2;
   r[1].parent = 0, r[2].parent = 0;
   return r;
+}
+
+// In build order, layer K's paths and the pieces no bead covers carry K (they are numbered again
+// when the layers of all regions are put in order): an L whose arm, built along X, carries a fin
+// 0.3 mm thick, too thin to lay, 10 mm beyond its end.
+TEST(Sequence, EveryLayerInBuildOrderCarriesItsIndexOnItsPathsAndThinPieces) {
+  PlanPartOptions o;
+  o.strategy = Strategy::kDecompose;
+  const auto part = test::repaired(test::prism_xz({{0, 0}, {10, 0}, {10, 14}, {30, 14}, {30, 16.85}, {40, 16.85}, {40, 17.15}, {30, 17.15}, {30, 20}, {0, 20}}, 16.0));
+  auto r = plan_part(part, test::example_machine("ded5_ac"), test::default_process(), o);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const Plan& plan = r.value().plan;
+  ASSERT_GE(plan.regions, 2u);
+  std::size_t thin = 0;
+  for (std::size_t k = 0; k < plan.toolpaths.size(); ++k) {
+    const toolpath::LayerToolpaths& lt = plan.toolpaths[k];
+    EXPECT_EQ(lt.layer, k);
+    for (const toolpath::Path& path : lt.paths) EXPECT_EQ(path.layer, k);
+    for (const toolpath::ThinRegion& t : lt.thin) {
+      EXPECT_EQ(t.layer, k);
+      ++thin;
+    }
+  }
+  EXPECT_EQ(thin, plan.thin_regions);
+  EXPECT_GT(thin, 0u);
 }
 
 TEST(Sequence, CrossingLayersInterfereWhenTheirGrownContoursMeetOnTheLineTheirPlanesShare) {
