@@ -411,6 +411,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   return c;
 }
 
+// True when A is the better plan: less unsupported area, then fewer regions, then fewer reorientations.
 bool better(const Plan& a, const Plan& b) {
   if (std::abs(a.unsupported_area_mm2 - b.unsupported_area_mm2) > kUnsupportedNoiseMm2) return a.unsupported_area_mm2 < b.unsupported_area_mm2;
   if (a.regions != b.regions) return a.regions < b.regions;
@@ -516,7 +517,6 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
                     refused.empty() ? "" : fmt::format("; refused: {}", fmt::join(refused, "; ")));
   return std::move(made[*best]->value());
 }
-
 
 core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                const PlanPartOptions& o, std::string& why) {
