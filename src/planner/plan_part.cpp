@@ -588,12 +588,16 @@ core::Status program_of(const machine::MachineConfig& machine, const process::Pr
 
 // Where the program read back still strikes earlier deposit, or the plate or the table near a
 // layer's path, the torch turns further there and the program is made and read back again, at most
-// kReliefRounds times.
+// kReliefRounds times, and only while each round strikes less often than the one before.
 core::Status relieve(const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanPartOptions& options,
                      PlanPartResult& out) {
   for (int round = 0; round < kReliefRounds && !out.check.collision_places.empty(); ++round) {
     if (relieve_collisions(out.plan, machine, process, options.plan, out.check.collision_places) == 0) break;
+    const std::size_t before = out.check.collisions;
     if (auto s = program_of(machine, process, options, out); !s) return s;
+    // A round that struck as often as the one before (the head buried in a feature the torch turns
+    // cannot clear) is not followed by another: each costs a whole program and its read-back.
+    if (out.check.collisions >= before) break;
   }
   return {};
 }

@@ -302,6 +302,22 @@ TEST(PlanGapFill, TaperedFinsAreLaidAlongTheirMiddleAndReadBackGrounded) {
   }
 }
 
+// A wall with a shelf leaning out 45° and a lip at its end (our own), decomposed: the shelf's
+// region, built after the whole wall, brings the nozzle into the wall above it, centimetres deep.
+// Turning the torch at the places struck only moves the strikes: relief stops after the first round
+// that strikes as often as the one before, instead of making and reading back the program twice more.
+TEST(PlanRelief, ARoundThatStrikesAsOftenEndsTheRelief) {
+  TempDir dir;
+  const auto part = dir / "shelf.stl";
+  std::ofstream(part, std::ios::binary) << binary_stl(
+      prism_xz({{0, 0}, {8, 0}, {8, 10}, {14, 10}, {34, 30}, {34, 34}, {20, 34}, {20, 30}, {8, 18}, {8, 50}, {0, 50}}, 40.0));
+  const auto plan = run_cli("plan '" + part.string() + "' --strategy decompose --allow-collisions --no-html -o '" + dir.path().string() + "'");
+  ASSERT_EQ(plan.exit_code, 0) << plan.err;
+  const auto report = read_json(dir / "report.json");
+  ASSERT_GT(report["collisions"].get<int>(), 0) << "the part no longer shows what the test is about";
+  EXPECT_EQ(report["relief_rounds"].get<int>(), 1);
+}
+
 // Twisted bars of our own (OpenSCAD's linear_extrude with twist), a few beads wide: two perimeters
 // leave an interior narrower than a bead, slanting across the fill lines. With defaults each is
 // support-free and reads back with every bead on the one below (a zigzag across the strip left it
