@@ -633,6 +633,26 @@ std::optional<PlanPartResult> clean_program(core::Result<Candidate> candidate, S
   return out;
 }
 
+// One direction in place of a decomposition whose program failed: upright and, where auto may turn
+// the part over, turned over too, the better first (as choose_auto takes them); the first that
+// reads back clean, with its label.
+std::optional<std::pair<PlanPartResult, const char*>> clean_single(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                                                   const process::ProcessConfig& process, const PlanPartOptions& options) {
+  std::vector<std::pair<core::Result<Candidate>, const char*>> tries;
+  tries.emplace_back(plan_single(part, machine, process, options), kAutoLabels[kOneDirection]);
+  if (options.root_base.kind == analysis::RootBase::Kind::kAuto) {
+    PlanPartOptions over = options;
+    over.direction = options.direction * -1.0;
+    auto turned = plan_single(part, machine, process, over);
+    const bool first = turned && (!tries[0].first || better(turned.value().plan, tries[0].first.value().plan));
+    tries.emplace(first ? tries.begin() : tries.end(), std::move(turned), kAutoLabels[kOneTurnedOver]);
+  }
+  for (auto& [candidate, label] : tries) {
+    if (auto clean = clean_program(std::move(candidate), Strategy::kSingle, machine, process, options)) return std::pair{std::move(*clean), label};
+  }
+  return std::nullopt;
+}
+
 // The layers of PLAN that turn with the part rather than stay parallel: "tilted", "conformal",
 // "tilted and conformal", or empty when every region is planar.
 std::string turned_layers(const Plan& plan) {
@@ -713,16 +733,16 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // The decomposition's program cannot be written (a limit of the machine that only shows in
     // the program, such as C winding past its end stops on a tilted region), or, read back, a
     // region starts in mid-air, or the head strikes something no order or tilt could avoid: one
-    // direction instead, when that one reads back clean.
-    if (auto clean = clean_program(plan_single(part, machine, process, options), Strategy::kSingle, machine, process, options)) {
-      PlanPartResult& alt = *clean;
+    // direction instead (upright or turned over), when that one reads back clean.
+    if (auto clean = clean_single(part, machine, process, options)) {
+      auto& [alt, label] = *clean;
       const std::string why =
           !made     ? fmt::format("the decomposition's program cannot be written: {}", made.error().message)
           : mid_air ? fmt::format("read back, the decomposition's region {} starts in mid-air", out.check.mid_air_regions.front())
                     : fmt::format("read back, the decomposition's program strikes something at {} samples (the first: {})", out.check.collisions,
                                   describe(out.check.collision_list.front()));
-      alt.choice = fmt::format("one build direction ({} mm2 unsupported): {}", area_text(alt.plan.unsupported_area_mm2), why);
-      alt.warnings = {fmt::format("one build direction was chosen because {}", why)};
+      alt.choice = fmt::format("{} ({} mm2 unsupported): {}", label, area_text(alt.plan.unsupported_area_mm2), why);
+      alt.warnings = {fmt::format("{} was chosen because {}", label, why)};
       out = std::move(alt);
       made = {};
     }

@@ -318,6 +318,29 @@ TEST(PlanRelief, ARoundThatStrikesAsOftenEndsTheRelief) {
   EXPECT_EQ(report["relief_rounds"].get<int>(), 1);
 }
 
+// The same shelf upside down, with defaults: its decomposition strikes what it built before, so
+// one direction is taken instead, and of the two ways up the one auto itself would prefer (turned
+// over, standing on the wall's top with the shelf rising from it), not the upright one.
+TEST(PlanFallback, ADecompositionThatStrikesGivesWayToTheBetterWayUp) {
+  TempDir dir;
+  const auto part = dir / "shelf.stl";
+  std::vector<std::array<double, 2>> outline{{0, 0}, {8, 0}, {8, 10}, {14, 10}, {34, 30}, {34, 34}, {20, 34}, {20, 30}, {8, 18}, {8, 50}, {0, 50}};
+  for (auto& p : outline) p[1] = 50.0 - p[1];
+  std::reverse(outline.begin(), outline.end());
+  std::ofstream(part, std::ios::binary) << binary_stl(prism_xz(outline, 40.0));
+  const auto upright = run_cli("plan '" + part.string() + "' --strategy single --no-html -o '" + (dir / "upright").string() + "'");
+  ASSERT_EQ(upright.exit_code, 0) << upright.err;
+  const double upright_mm2 = read_json(dir / "upright" / "report.json")["unsupported_area_mm2"].get<double>();
+  const auto plan = run_cli("plan '" + part.string() + "' --no-html -o '" + dir.path().string() + "'");
+  ASSERT_EQ(plan.exit_code, 0) << plan.err;
+  const auto report = read_json(dir / "report.json");
+  const std::string reason = report["strategy_reason"].get<std::string>();
+  ASSERT_NE(reason.find("the decomposition's program strikes"), std::string::npos) << "the part no longer shows what the test is about: " << reason;
+  EXPECT_EQ(reason.rfind("one build direction turned over", 0), 0u) << reason;
+  EXPECT_LT(report["unsupported_area_mm2"].get<double>(), 0.5 * upright_mm2) << reason;
+  check_readback(dir.path(), "shelf");
+}
+
 // Twisted bars of our own (OpenSCAD's linear_extrude with twist), a few beads wide: two perimeters
 // leave an interior narrower than a bead, slanting across the fill lines. With defaults each is
 // support-free and reads back with every bead on the one below (a zigzag across the strip left it
