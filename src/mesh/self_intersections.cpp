@@ -206,7 +206,8 @@ bool fan_is_embedded(const Mesh& mesh, const EdgeTopology& topo, std::uint32_t v
     const Triangle& t = mesh.triangles[f];
     const std::size_t c = t[0] == vertex ? 0 : (t[1] == vertex ? 1 : 2);
     const Vec3 e1 = mesh.vertices[t[(c + 1) % 3]] - p, e2 = mesh.vertices[t[(c + 2) % 3]] - p;
-    if (!(dot(n, cross(e1, e2)) > kWedgeMargin * norm(e1) * norm(e2))) return false;
+    const double wedge = dot(n, cross(e1, e2));  // > kWedgeMargin·|e1|·|e2|, squared (no square roots)
+    if (!(wedge > 0.0 && wedge * wedge > kWedgeMargin * kWedgeMargin * dot(e1, e1) * dot(e2, e2))) return false;
     double d = pseudo_angle(dot(e2, u), dot(e2, w)) - pseudo_angle(dot(e1, u), dot(e1, w));
     if (d < 0.0) d += 4.0;
     turn += d;
@@ -306,11 +307,12 @@ std::vector<FaceBox> face_float_boxes(const Mesh& mesh) {
 
 // A uniform grid over the faces' boxes: for each cell, the faces whose boxes reach into it.
 struct FaceGrid {
-  double origin[3] = {0, 0, 0}, cell = 1.0;
+  double origin[3] = {0, 0, 0}, cell = 1.0, per_cell = 1.0;  // per_cell = 1 / cell
   std::int64_t dims[3] = {1, 1, 1};
   std::vector<std::uint32_t> start, faces;  // faces of cell c: faces[start[c], start[c + 1])
+  // Monotone in V, which is all the grid needs of it (each pair is found in one cell).
   std::int64_t index(double v, int k) const {
-    return std::clamp(static_cast<std::int64_t>(std::floor((v - origin[k]) / cell)), std::int64_t{0}, dims[k] - 1);
+    return std::clamp(static_cast<std::int64_t>(std::floor((v - origin[k]) * per_cell)), std::int64_t{0}, dims[k] - 1);
   }
   std::int64_t index(const double* p, int k) const { return index(p[k], k); }
   std::int64_t cell_of(const double* p) const { return (index(p, 2) * dims[1] + index(p, 1)) * dims[0] + index(p, 0); }
@@ -342,6 +344,7 @@ std::optional<FaceGrid> make_grid(const std::vector<FaceBox>& boxes) {
     if (cells <= max_cells) break;
     g.cell *= 1.25;
   }
+  g.per_cell = 1.0 / g.cell;
   for (int k = 0; k < 3; ++k) g.origin[k] = lo[k], g.dims[k] = static_cast<std::int64_t>(std::floor((hi[k] - lo[k]) / g.cell)) + 1;
   const auto cells = static_cast<std::size_t>(g.dims[0] * g.dims[1] * g.dims[2]);
   // Counting sort of (cell, face) entries in parts over the faces, counted and placed in parallel
@@ -391,14 +394,17 @@ std::optional<FaceGrid> make_grid(const std::vector<FaceBox>& boxes) {
   return g;
 }
 
-// A face's box in a cell, with the grid cell of the box's low corner: the low corner of two boxes'
-// overlap lies in the cell of the larger of their low cells on each axis (floor is monotonic).
+// A face's box in a cell, with where the box's low corner lies: the low corner of two boxes'
+// overlap lies in the cell of the larger of their low cells on each axis (floor is monotonic), so
+// in this cell exactly when, on every axis, one of the two boxes starts in this cell's slab (both
+// start in it or before it). Bit k of LOW_HERE: the box starts in this cell's slab along axis k.
 struct CellEntry {
   FaceBox box;
   std::uint32_t face;
-  std::int32_t low_cell[3];
   std::uint32_t corners[3];  // the face's vertices, kEmbeddedBit set on those with an embedded fan
+  std::uint8_t low_here;
 };
+constexpr std::uint8_t kLowHereAll = 7;
 
 // Marks a vertex id whose fan is embedded (embedded_fans), on meshes whose ids all stay below it.
 constexpr std::uint32_t kEmbeddedBit = std::uint32_t{1} << 31;
@@ -461,12 +467,6 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeT
     core::Progress progress("self-intersections", cells);
     std::atomic<std::size_t> done{0};
     std::mutex progress_mutex;
-    std::vector<std::array<std::int32_t, 3>> low_cell(boxes.size());  // the grid cell of each box's low corner
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t f = r.begin(); f != r.end(); ++f) {
-        for (int k = 0; k < 3; ++k) low_cell[f][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(g.index(boxes[f].lo[k], k));
-      }
-    });
     const bool flag_ids = mesh.vertices.size() < kEmbeddedBit;
     auto flagged = [&](std::uint32_t v) { return flag_ids && embedded[v] ? v | kEmbeddedBit : v; };
     tbb::enumerable_thread_specific<std::vector<CellEntry>> scratch;
@@ -475,13 +475,15 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeT
       for (std::size_t c = range.begin(); c != range.end(); ++c) {
         if (g.start[c + 1] - g.start[c] < 2) continue;
         const auto cell = static_cast<std::int64_t>(c);
-        const std::int32_t cell_xyz[3] = {static_cast<std::int32_t>(cell % g.dims[0]), static_cast<std::int32_t>(cell / g.dims[0] % g.dims[1]),
-                                          static_cast<std::int32_t>(cell / (g.dims[0] * g.dims[1]))};
+        const std::int64_t cell_xyz[3] = {cell % g.dims[0], cell / g.dims[0] % g.dims[1], cell / (g.dims[0] * g.dims[1])};
         entries.clear();
         for (std::uint32_t i = g.start[c]; i < g.start[c + 1]; ++i) {
           const std::uint32_t f = g.faces[i];
           const Triangle& t = mesh.triangles[f];
-          entries.push_back({boxes[f], f, {low_cell[f][0], low_cell[f][1], low_cell[f][2]}, {flagged(t[0]), flagged(t[1]), flagged(t[2])}});
+          const FaceBox& b = boxes[f];
+          std::uint8_t low_here = 0;
+          for (int k = 0; k < 3; ++k) low_here |= static_cast<std::uint8_t>(g.index(b.lo[k], k) == cell_xyz[k] ? 1 << k : 0);
+          entries.push_back({b, f, {flagged(t[0]), flagged(t[1]), flagged(t[2])}, low_here});
         }
         // Sweep and prune along x: a box meets only the boxes that start before it ends.
         std::sort(entries.begin(), entries.end(), [](const CellEntry& x, const CellEntry& y) {
@@ -489,12 +491,11 @@ std::vector<std::uint32_t> self_intersecting_faces(const Mesh& mesh, const EdgeT
         });
         for (std::size_t i = 0; i < entries.size(); ++i) {
           const FaceBox& a = entries[i].box;
-          const std::int32_t* la = entries[i].low_cell;
+          const std::uint8_t la = entries[i].low_here;
           for (std::size_t j = i + 1; j < entries.size() && entries[j].box.lo[0] <= a.hi[0]; ++j) {
             const FaceBox& b = entries[j].box;
-            const std::int32_t* lb = entries[j].low_cell;
             // Each pair once: in the cell of the low corner of the two boxes' overlap.
-            if (std::max(la[0], lb[0]) != cell_xyz[0] || std::max(la[1], lb[1]) != cell_xyz[1] || std::max(la[2], lb[2]) != cell_xyz[2]) continue;
+            if ((la | entries[j].low_here) != kLowHereAll) continue;
             if (!overlap(a, b) || (flag_ids && share_embedded_vertex(entries[i], entries[j]))) continue;
             const std::size_t f = entries[i].face, h = entries[j].face;
             if (hit[f].load(std::memory_order_relaxed) && hit[h].load(std::memory_order_relaxed)) continue;
