@@ -194,8 +194,10 @@ core::Result<ReadResult> read_binary(std::string_view data, const std::string& n
         }
       }
     }
+    // The first chunk's points come first and in order (its ids are already global): its faces stay.
+    mesh.triangles = std::move(chunks[0].triangles);
     mesh.triangles.resize(n);
-    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t c) {
+    tbb::parallel_for(std::size_t{1}, count, [&](std::size_t c) {
       const auto& local = chunks[c].triangles;
       const auto& global = chunks[c].global;
       for (std::uint64_t t = 0; t < local.size(); ++t) {
