@@ -9,8 +9,10 @@
 namespace polyaxis::toolpath::detail {
 
 // Zigzag polylines filling PIECE (one connected polygon with holes, in 1 nm units), for lines
-// along the direction ANGLE_RAD from the u axis, SPACING units apart, the first SPACING/2 above the
-// piece's lowest point across the lines. Neighbouring lines are joined, in boustrophedon order,
+// along the direction ANGLE_RAD from the u axis, spread evenly across the piece: ceil(H / SPACING)
+// lines for the piece's extent H across them, floor(H / lines) <= SPACING apart, the first and the
+// last half that from the piece's lowest and highest points (none when H <= SPACING/2), so that
+// beads SPACING wide leave no strip bare along either side. Neighbouring lines are joined, in boustrophedon order,
 // along the piece's boundary between them when that boundary stays between the two lines;
 // otherwise a new polyline starts. Each polyline has at least two points. Crossings are exact
 // (integer arithmetic on the piece rotated once onto the scan direction, rounded to 1 nm).

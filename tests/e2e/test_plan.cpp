@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -363,6 +364,35 @@ TEST(PlanFill, TwistedBarsAFewBeadsWideReadBackWithEveryBeadGrounded) {
     EXPECT_EQ(report["build_check"]["ungrounded_samples"].get<int>(), 0) << out << report["build_check"]["problems"];
     check_readback(out, "bar");
     expect_rs274_reads(out, out / "bar.ngc");
+  }
+}
+
+// Arches of our own (a block with a half-round cut under it) of depths and spans that are no whole
+// number of beads, with defaults: turned over they are support-free, and every bead of the program
+// read back rests on the layer below. Fill lines laid a bead apart from one side left a strip up to
+// a bead wide bare along the far perimeter, under the next layer's line ends (6 beads over nothing).
+TEST(PlanFill, ArchesOfNoWholeNumberOfBeadsReadBackWithEveryBeadGrounded) {
+  TempDir dir;
+  struct Arch {
+    double half_span, radius, height, depth;
+  };
+  for (const Arch a : {Arch{40.0, 28.0, 35.0, 12.0}, Arch{31.0, 17.0, 24.0, 9.4}}) {
+    std::vector<std::array<double, 2>> outline{{-a.half_span, 0.0}, {-a.radius, 0.0}};
+    for (int k = 1; k < 48; ++k) {
+      const double t = std::numbers::pi * (1.0 - k / 48.0);
+      outline.push_back({a.radius * std::cos(t), a.radius * std::sin(t)});
+    }
+    for (const auto& p : {std::array<double, 2>{a.radius, 0.0}, {a.half_span, 0.0}, {a.half_span, a.height}, {-a.half_span, a.height}}) outline.push_back(p);
+    const auto out = dir / fmt::format("arch_{}", a.half_span);
+    std::filesystem::create_directories(out);
+    const auto part = out / "arch.stl";
+    std::ofstream(part, std::ios::binary) << binary_stl(prism_xz(outline, a.depth));
+    const auto plan = run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html");
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+    EXPECT_EQ(report["build_check"]["ungrounded_samples"].get<int>(), 0) << out << report["build_check"]["problems"];
+    check_readback(out, "arch");
   }
 }
 
