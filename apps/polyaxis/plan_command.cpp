@@ -95,6 +95,9 @@ Runner add_plan_command(CLI::App& app) {
       ->capture_default_str()->check(CLI::Range(0.0, 1e18));
   cmd->add_flag("--allow-collisions", o->request.options.allow_collisions,
                 "Write a plan whose program, read back, still strikes the plate, the table or the deposit (exit 0, with a warning)");
+  cmd->add_flag("!--keep-directions", o->request.options.redirect_regions,
+                "Build every region along the decomposition's direction, even where, read back, the head strikes something no order or "
+                "torch tilt clears (by default such regions are tried along other directions first)");
   cmd->add_flag("--json", o->json, "Print report.json instead of one line");
   cmd->add_flag("--svg", o->svg, "Also write one SVG per layer (contours, paths, seams): DIR/layer_NNNNN.svg");
   cmd->add_flag("!--no-html", o->html, "Do not write report.html");

@@ -100,6 +100,9 @@ void bind_plan_options(py::module_& m) {
           "allow_collisions", [](const R& r) { return r.options.allow_collisions; }, [](R& r, bool v) { r.options.allow_collisions = v; },
           "Keep a plan whose program still strikes the plate, the table or the deposit")
       .def_property(
+          "redirect_regions", [](const R& r) { return r.options.redirect_regions; }, [](R& r, bool v) { r.options.redirect_regions = v; },
+          "Try regions whose program strikes something along other directions before giving up (default True)")
+      .def_property(
           "max_output_bytes", [](const R& r) { return r.options.gcode.max_output_bytes; },
           [](R& r, std::uint64_t v) { r.options.gcode.max_output_bytes = v; }, "Refuse a program or file set larger than this (0: no cap)")
       .def_property(

@@ -727,6 +727,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
     for (Vec3& v : r.mesh.vertices) v = plan.placement.apply(v);
     r.base_point = plan.placement.apply(r.base_point);
     r.direction = plan.placement.rotate(core::normalized(r.direction));
+    r.base_normal = plan.placement.rotate(core::normalized(r.base_normal));
   }
   if (auto s = place_checks(regions, machine, process, plan); !s) return s.error();
   plan.regions = static_cast<std::uint32_t>(regions.size());

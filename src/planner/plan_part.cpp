@@ -47,6 +47,8 @@ bool supplied_by_plate(const analysis::Region& r, const analysis::Region& root, 
 constexpr int kReliefRounds = 3;
 // Collisions named in a message, at most.
 constexpr std::size_t kNamedCollisions = 3;
+// Regions tried along other directions, one after the other, at most (redirected).
+constexpr std::size_t kRedirectRegions = 2;
 
 std::string describe(const verify::Collision& c) {
   return fmt::format("line {} (layer {} region {}) at ({:.2f}, {:.2f}, {:.2f}), the {} ({:.2f} mm)", c.line, c.layer, c.region, c.tip.x, c.tip.y,
@@ -66,6 +68,10 @@ struct Candidate {
   // A decomposition whose root stands on the part's lowest point along its direction: rooting it
   // there explicitly (RootBase::kLowest) would give the same tree.
   bool root_at_lowest = false;
+  // A decomposition's regions and options as make_plan took them (part frame, no stop flag): its
+  // regions can be planned again along other directions (redirected).
+  std::vector<PlanRegion> regions;
+  PlanOptions plan_options;
 };
 
 // What every decomposition of one part computes alike, computed once: the count of faces that cross
@@ -115,7 +121,9 @@ core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const machin
   po.stop = stop;
   auto plan = make_plan(part, machine, process, po);
   if (!plan) return plan.error();
-  return Candidate{std::move(plan.value()), std::nullopt, Strategy::kSingle, {}};
+  Candidate c;
+  c.plan = std::move(plan.value());
+  return c;
 }
 
 // The connected pieces of MESH (faces sharing vertices), each a mesh of its own; a piece of
@@ -389,6 +397,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
     pr.direction = r.build_direction;
     pr.parent = r.parent;
     pr.base_point = r.base_point;
+    pr.base_normal = r.base_normal;
     pr.support_free = r.support_free;
     pr.rule = r.rule;
     pr.rests_on = r.rests_on;
@@ -408,6 +417,9 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   if (!plan) return plan.error();
   c.plan = std::move(plan.value());
   c.axis = axis.value();
+  c.regions = std::move(regions);
+  c.plan_options = po;
+  c.plan_options.stop = nullptr;
   return c;
 }
 
@@ -633,6 +645,103 @@ std::optional<PlanPartResult> clean_program(core::Result<Candidate> candidate, S
   return out;
 }
 
+// Directions to build REGIONS[I] along in place of its own: its base's normal, half-way to it, its
+// parent's direction and half-way to that, each with its name, at least kRedirectMinDeg from its own
+// direction and from those before it.
+std::vector<std::pair<Vec3, std::string>> other_directions(const std::vector<PlanRegion>& regions, std::size_t i) {
+  const PlanRegion& r = regions[i];
+  const Vec3 own = core::normalized(r.direction);
+  std::vector<std::pair<Vec3, std::string>> tries;
+  auto add = [&](Vec3 d, std::string name) {
+    if (!(core::norm(d) > 0.0)) return;
+    d = core::normalized(d);
+    const double min_cos = std::cos(kRedirectMinDeg * std::numbers::pi / 180.0);
+    if (core::dot(d, own) > min_cos) return;
+    for (const auto& t : tries) {
+      if (core::dot(d, t.first) > min_cos) return;
+    }
+    tries.emplace_back(d, std::move(name));
+  };
+  const Vec3 base = core::normalized(r.base_normal);
+  add(base, "its base's normal");
+  add(own + base, "half-way to its base's normal");
+  for (const PlanRegion& p : regions) {
+    if (!r.parent || p.id != *r.parent) continue;
+    const Vec3 up = core::normalized(p.direction);
+    add(up, fmt::format("its parent's direction (region {})", p.id));
+    add(own + up, fmt::format("half-way to its parent's direction (region {})", p.id));
+  }
+  return tries;
+}
+
+// The first region (index into REGIONS) struck while being built in RESULT's program that is not the
+// root, not prebuilt and not in DONE; none: SIZE_MAX.
+std::size_t first_struck(const std::vector<PlanRegion>& regions, const PlanPartResult& result, const std::vector<std::size_t>& done) {
+  for (const verify::Collision& c : result.check.collision_list) {
+    for (std::size_t i = 0; i < regions.size(); ++i) {
+      const PlanRegion& r = regions[i];
+      if (static_cast<std::int64_t>(r.id) == c.region && r.parent && !r.prebuilt && std::find(done.begin(), done.end(), i) == done.end()) return i;
+    }
+  }
+  return SIZE_MAX;
+}
+
+// SOURCE's decomposition, whose program (STRUCK) strikes something no build order or torch tilt
+// cleared, with the region first struck while being built along other directions
+// (other_directions), one at a time; one the support check finds support-free must read back with
+// no more beads over nothing than STRUCK. Where none reads back clean, the one that clears that region
+// itself with the least overhang is kept and the next region it struck (a region built on it, say)
+// is tried in turn, kRedirectRegions regions at most. Each redirected region is marked
+// kDirectionRedirected. The best (better()) of the programs that read back clean; the first
+// support-free one ends the search.
+std::optional<PlanPartResult> redirected(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                         const process::ProcessConfig& process, const PlanPartOptions& options, const Candidate& source,
+                                         const PlanPartResult& struck) {
+  std::vector<PlanRegion> regions = source.regions;
+  std::vector<std::size_t> done;
+  std::optional<PlanPartResult> best, next;
+  const PlanPartResult* current = &struck;
+  while (done.size() < kRedirectRegions) {
+    const std::size_t i = first_struck(regions, *current, done);
+    if (i == SIZE_MAX) break;
+    done.push_back(i);
+    std::optional<std::pair<PlanPartResult, std::vector<PlanRegion>>> carry;  // clears region I, least overhang
+    for (const auto& [direction, name] : other_directions(regions, i)) {
+      std::vector<PlanRegion> tried = regions;
+      PlanRegion& r = tried[i];
+      const Vec3 was = core::normalized(r.direction);
+      r.direction_rule = kDirectionRedirected;
+      r.direction_why = fmt::format("along ({:.3f}, {:.3f}, {:.3f}) the head struck something at {} samples (the first: {}); built along {} "
+                                    "instead",
+                                    was.x, was.y, was.z, current->check.collisions, describe(current->check.collision_list.front()), name);
+      r.direction = direction;
+      auto plan = make_plan(part, machine, process, source.plan_options, tried);
+      if (!plan) continue;
+      PlanPartResult out;
+      out.plan = std::move(plan.value());
+      out.strategy_used = Strategy::kDecompose;
+      if (!program_of(machine, process, options, out) || !relieve(machine, process, options, out) || !out.check.mid_air_regions.empty()) continue;
+      // Support-free by the support check yet, read back, more beads over nothing than as
+      // decomposed: a direction at the very limit of the check, which the read-back's grounding
+      // rule does not let through (a bar leaning 60° built along a 30° lean, α = 30°).
+      if (out.plan.unsupported_area_mm2 == 0.0 && out.check.ungrounded_samples > struck.check.ungrounded_samples) continue;
+      if (out.check.collisions == 0) {
+        if (!best || better(out.plan, best->plan)) best = std::move(out);
+        if (best->plan.unsupported_area_mm2 == 0.0) return best;
+        continue;
+      }
+      const bool clears = std::none_of(out.check.collision_list.begin(), out.check.collision_list.end(),
+                                       [&](const verify::Collision& c) { return c.region == static_cast<std::int64_t>(r.id); });
+      if (clears && (!carry || out.plan.unsupported_area_mm2 < carry->first.plan.unsupported_area_mm2)) carry.emplace(std::move(out), std::move(tried));
+    }
+    if (best || !carry) break;
+    next = std::move(carry->first);
+    regions = std::move(carry->second);
+    current = &*next;
+  }
+  return best;
+}
+
 // One direction in place of a decomposition whose program failed: upright and, where auto may turn
 // the part over, turned over too, the better first (as choose_auto takes them); the first that
 // reads back clean, with its label.
@@ -727,6 +836,31 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
       alt.choose_s = out.choose_s;
       out = std::move(alt);
       made = {}, mid_air = false, collides = false;
+    }
+  }
+  if (options.redirect_regions && made && collides && !mid_air && out.strategy_used == Strategy::kDecompose && options.prebuilt.empty() &&
+      !options.substrate) {
+    // No build order or torch tilt cleared the head (relieve): the regions it struck in, along other
+    // directions (Dwivedi's rule base: the region's direction before giving up).
+    if (auto alt = redirected(part, machine, process, options, chosen.value(), out)) {
+      if (options.strategy == Strategy::kAuto && alt->plan.unsupported_area_mm2 > 0.0) {
+        // Not support-free: one direction may leave less (as auto compares them).
+        if (auto single = clean_single(part, machine, process, options); single && better(single->first.plan, alt->plan)) alt.reset();
+      }
+      if (alt) {
+        std::string why;
+        for (const PlanRegion& r : alt->plan.placed_regions) {
+          if (r.direction_rule == kDirectionRedirected) why += fmt::format("{}region {}: {}", why.empty() ? "" : "; ", r.id, r.direction_why);
+        }
+        why += fmt::format(" ({} mm2 unsupported)", area_text(alt->plan.unsupported_area_mm2));
+        alt->choice = out.choice + "; " + why;
+        alt->warnings = out.warnings;
+        alt->warnings.push_back(why);
+        alt->choose_s = out.choose_s;
+        alt->axis = std::move(out.axis);
+        out = std::move(*alt);
+        collides = false;
+      }
     }
   }
   if (options.strategy == Strategy::kAuto && options.prebuilt.empty() && !options.substrate && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {

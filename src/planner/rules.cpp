@@ -37,6 +37,11 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
        "the part less the substrate (--substrate), deposited onto the substrate along the given direction; its first beads rest on the "
        "substrate's surface",
        {}},
+      {kDirectionRedirected,
+       "a region is built along another direction than the decomposition gave it: along that one the head struck earlier deposit, the "
+       "plate or the table where no build order or torch tilt cleared it; tried in turn, its base's normal, half-way to it, its parent's "
+       "direction and half-way to that, and kept the one whose program reads back clean with the least overhang",
+       {{"redirect_min_deg", kRedirectMinDeg}}},
       {kLayersAsked, "the region's layers are those --layers asked for (planar, tilted or conformal)", {}},
       {kLayersPlanar,
        "the region keeps planar layers: they leave no overhang, or tilted and conformal layers leave no less than half of it, cannot "

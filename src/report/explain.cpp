@@ -182,6 +182,11 @@ core::Result<Explanation> explain_region(const PlanView& view, std::uint32_t id)
   t += fmt::format("  built along ({:.3f}, {:.3f}, {:.3f}), {:.1f} deg from the table's normal, from its base at ({:.2f}, {:.2f}, {:.2f}): the "
                    "inward normal of its base\n",
                    d.x, d.y, d.z, angle_deg(d, {0, 0, 1}), r->base_point.x, r->base_point.y, r->base_point.z);
+  if (!r->direction_rule.empty()) {
+    j["direction_rule"] = {{"rule", rule_json(view, r->direction_rule)}, {"why", r->direction_why}};
+    t += fmt::format("  direction by \"{}\": {}{}; here: {}\n", r->direction_rule, says(view, r->direction_rule),
+                     params_text(j["direction_rule"]["rule"]), r->direction_why);
+  }
   t += fmt::format("  {:.1f} mm3; {:.1f} mm2 overhang along its direction as decomposed; {}\n", r->volume_mm3, r->overhang_mm2,
                    r->support_free ? "support-free as planned" : "not support-free as planned");
   if (first) t += fmt::format("  {} layers, at build positions {} to {}\n", count, *first, *last);

@@ -189,8 +189,13 @@ std::string plan_view_json(const PlanView& view) {
     out += ",\"base_point\":", put_vec(out, r.base_point);
     fmt::format_to(std::back_inserter(out), ",\"support_free\":{},\"volume_mm3\":{:.3f},\"overhang_mm2\":{:.3f},\"rule\":{},\"rests_on\":{},",
                    r.support_free, mesh::signed_volume(r.mesh), r.overhang_mm2, nlohmann::json(r.rule).dump(), nlohmann::json(r.rests_on).dump());
-    fmt::format_to(std::back_inserter(out), "\"layers\":{{\"strategy\":\"{}\",\"rule\":{},\"why\":{}}},\"prebuilt\":{},\"vertices\":",
+    fmt::format_to(std::back_inserter(out), "\"layers\":{{\"strategy\":\"{}\",\"rule\":{},\"why\":{}}},\"prebuilt\":{},",
                    slicing::layer_strategy_name(r.layers), nlohmann::json(r.layers_rule).dump(), nlohmann::json(r.layers_why).dump(), r.prebuilt);
+    if (!r.direction_rule.empty()) {
+      fmt::format_to(std::back_inserter(out), "\"direction\":{{\"rule\":{},\"why\":{}}},", nlohmann::json(r.direction_rule).dump(),
+                     nlohmann::json(r.direction_why).dump());
+    }
+    out += "\"vertices\":";
     put_flat(out, r.mesh.vertices);
     out += ",\"triangles\":[";
     for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {

@@ -180,6 +180,10 @@ core::Result<PlanView> read_plan_view(std::string_view json, const std::string& 
         region.layers_why = l.at("why").get<std::string>();
       }
       if (r.contains("prebuilt")) region.prebuilt = r.at("prebuilt").get<bool>();  // plans written before --substrate have none
+      if (r.contains("direction")) {  // plans written before redirected regions have none
+        region.direction_rule = r.at("direction").at("rule").get<std::string>();
+        region.direction_why = r.at("direction").at("why").get<std::string>();
+      }
       region.mesh.vertices = get_flat(r.at("vertices"));
       const Json& tris = r.at("triangles");
       if (!tris.is_array() || tris.size() % 3 != 0) throw std::runtime_error("a triangle list is not a multiple of 3 indices");

@@ -312,11 +312,59 @@ TEST(PlanRelief, ARoundThatStrikesAsOftenEndsTheRelief) {
   const auto part = dir / "shelf.stl";
   std::ofstream(part, std::ios::binary) << binary_stl(
       prism_xz({{0, 0}, {8, 0}, {8, 10}, {14, 10}, {34, 30}, {34, 34}, {20, 34}, {20, 30}, {8, 18}, {8, 50}, {0, 50}}, 40.0));
-  const auto plan = run_cli("plan '" + part.string() + "' --strategy decompose --allow-collisions --no-html -o '" + dir.path().string() + "'");
+  const auto plan = run_cli("plan '" + part.string() + "' --strategy decompose --keep-directions --allow-collisions --no-html -o '" +
+                            dir.path().string() + "'");
   ASSERT_EQ(plan.exit_code, 0) << plan.err;
   const auto report = read_json(dir / "report.json");
   ASSERT_GT(report["collisions"].get<int>(), 0) << "the part no longer shows what the test is about";
   EXPECT_EQ(report["relief_rounds"].get<int>(), 1);
+}
+
+// The same shelf along X and turned 90° about Z (along Y), with defaults: the decomposition builds
+// the shelf's region along the direction its overhang search ended on, leaning over the wall, and
+// the head strikes the wall where no order or torch tilt clears it. The struck regions are built
+// along other directions (rule direction.redirected) instead of giving the decomposition up for
+// one direction (228 mm2 unsupported, what --keep-directions still gets): each plans decomposed,
+// reads back with no collision, leaves under 1 mm2 unsupported, and plan.json and explain name the
+// rule; along Y it is support-free with every bead grounded.
+TEST(PlanRedirect, AShelfWhoseRegionStrikesTheWallIsBuiltAlongAnotherDirection) {
+  TempDir dir;
+  const RawMesh along_x =
+      prism_xz({{0, 0}, {8, 0}, {8, 10}, {14, 10}, {34, 30}, {34, 34}, {20, 34}, {20, 30}, {8, 18}, {8, 50}, {0, 50}}, 40.0);
+  RawMesh along_y = along_x;
+  for (auto& p : along_y.points) std::swap(p.x, p.y);
+  for (auto& t : along_y.triangles) std::swap(t[1], t[2]);  // the mirror turns the faces inside out
+  for (const auto& [name, mesh] : {std::pair<std::string, RawMesh>{"x", along_x}, {"y", along_y}}) {
+    const auto out = dir / name;
+    std::filesystem::create_directories(out);
+    const auto part = out / "shelf.stl";
+    std::ofstream(part, std::ios::binary) << binary_stl(mesh);
+    const auto plan = run_cli("plan '" + part.string() + "' --no-html -o '" + out.string() + "'");
+    ASSERT_EQ(plan.exit_code, 0) << name << ": " << plan.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_EQ(report["strategy"].get<std::string>(), "decompose") << name << ": " << report["strategy_reason"];
+    EXPECT_EQ(report["collisions"].get<int>(), 0) << name;
+    EXPECT_LT(report["unsupported_area_mm2"].get<double>(), 1.0) << name << ": " << report["strategy_reason"];
+    const auto plan_json = read_json(out / "plan.json");
+    std::vector<int> redirected;
+    for (const auto& r : plan_json["regions"]) {
+      if (r.contains("direction") && r["direction"]["rule"] == "direction.redirected") redirected.push_back(r["id"].get<int>());
+    }
+    ASSERT_FALSE(redirected.empty()) << name;
+    const auto why = run_cli("explain '" + (out / "plan.json").string() + "' --region " + std::to_string(redirected.front()));
+    ASSERT_EQ(why.exit_code, 0) << why.err;
+    EXPECT_NE(why.out.find("direction.redirected"), std::string::npos) << why.out;
+    if (name == "y") {
+      EXPECT_TRUE(report["support_free"].get<bool>()) << report["strategy_reason"];
+      check_readback(out, "shelf");
+    }
+  }
+  const auto kept = dir / "kept";
+  const auto plan = run_cli("plan '" + (dir / "y" / "shelf.stl").string() + "' --keep-directions --no-html -o '" + kept.string() + "'");
+  ASSERT_EQ(plan.exit_code, 0) << plan.err;
+  const auto report = read_json(kept / "report.json");
+  EXPECT_EQ(report["strategy"].get<std::string>(), "single") << report["strategy_reason"];
+  EXPECT_GT(report["unsupported_area_mm2"].get<double>(), 100.0);
 }
 
 // The same shelf upside down, with defaults: its decomposition strikes what it built before, so

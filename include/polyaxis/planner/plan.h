@@ -77,6 +77,7 @@ struct PlanRegion {
   // whether the region is support-free in its own direction (analysis::Region's fields).
   std::optional<std::uint32_t> parent;
   Vec3 base_point;
+  Vec3 base_normal{0, 0, 1};  // the base's normal, into the region (analysis::Region::base_normal)
   bool support_free = true;
   // Why the region exists and why its direction (the rule base, plan.json): the decomposition's
   // rule for its base (analysis::Region::rule, kRegionWhole for an undivided part), the regions it
@@ -85,6 +86,10 @@ struct PlanRegion {
   std::vector<std::uint32_t> rests_on;
   double volume_mm3 = 0.0;
   double overhang_mm2 = 0.0;
+  // The rule that turned the region off the direction its region rule gives (kDirectionRedirected)
+  // and why, in words; both empty when it keeps that direction.
+  std::string direction_rule;
+  std::string direction_why;
   // The layers the region is built with, the rule that chose them (kLayers…) and the figures it
   // compared (the overhang slicing::overhang_estimate_mm2 finds for each strategy tried).
   slicing::LayerStrategy layers = slicing::LayerStrategy::kPlanar;
@@ -95,6 +100,13 @@ struct PlanRegion {
   // and the regions resting on it start on its surface.
   bool prebuilt = false;
 };
+
+// The rule of a region built along another direction than the decomposition's: along that one the
+// head struck something that no build order or torch tilt cleared (plan_part).
+inline constexpr const char* kDirectionRedirected = "direction.redirected";
+// Directions tried for a redirected region differ from its own and from each other by at least
+// this, degrees.
+inline constexpr double kRedirectMinDeg = 5.0;
 
 // The rule of a region that is a part already on the table (--substrate).
 inline constexpr const char* kRegionSubstrate = "substrate";

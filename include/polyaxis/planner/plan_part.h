@@ -38,6 +38,11 @@ struct PlanPartOptions {
   // A program that, read back, still strikes the plate, the table or earlier deposit is an error
   // (kInfeasible) unless this is set (`--allow-collisions`): then it is kept, with a warning.
   bool allow_collisions = false;
+  // A decomposition whose program strikes something no build order or torch tilt clears has the
+  // regions struck built along other directions (the rule kDirectionRedirected, docs/plan.md)
+  // before the plan is given up; false (`--keep-directions`) keeps every region along the
+  // decomposition's direction.
+  bool redirect_regions = true;
   // A part already on the table (`--substrate MESH`, in the part's frame): the part less it is
   // deposited onto it, along `direction` (kSingle) or each connected piece along the substrate's
   // normal under its base (kDecompose), kAuto choosing as docs/plan.md says; it stands on the
