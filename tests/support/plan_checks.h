@@ -32,6 +32,14 @@ inline std::string rs274_path() {
   return {};
 }
 
+// The shell command running RS274 on IN, writing the canonical calls to OUT, with HOME set to OUT's
+// directory: rs274 keeps its tool table in $HOME/.tool.mmap, opened with O_TRUNC and mapped, so
+// two runs sharing a HOME truncate each other's mapping and one dies of SIGBUS (seen in parallel
+// ctest runs, about one concurrent run in six).
+inline std::string rs274_command(const std::string& rs274, const std::filesystem::path& in, const std::filesystem::path& out) {
+  return "HOME='" + out.parent_path().string() + "' '" + rs274 + "' -g '" + in.string() + "' '" + out.string() + "'";
+}
+
 // The axis words of every G0/G1 block in OUR file, in order, carried forward like a controller.
 inline std::vector<std::array<double, 6>> our_positions(const std::string& gcode) {
   std::vector<std::array<double, 6>> out;
@@ -219,7 +227,7 @@ inline bool expect_rs274_reads(const std::filesystem::path& dir, const std::file
   const std::string rs274 = rs274_path();
   if (rs274.empty()) return false;
   const auto canon = dir / "canon.txt";
-  const int status = std::system(("'" + rs274 + "' -g '" + ngc.string() + "' '" + canon.string() + "' >/dev/null 2>&1 </dev/null").c_str());
+  const int status = std::system((rs274_command(rs274, ngc, canon) + " >/dev/null 2>&1 </dev/null").c_str());
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rs274 refused " << ngc;
   const auto theirs = rs274_positions(slurp(canon));
   const auto ours = our_positions(slurp(ngc));
