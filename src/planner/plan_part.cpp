@@ -457,10 +457,47 @@ core::Result<Candidate> choose_on_substrate(const mesh::RepairedMesh& part, cons
 
 // The candidates of an automatic choice, in the order they are taken: the first support-free one
 // ends the choice, and of the others the better one (better()) is kept, the earlier on a tie.
-enum AutoCandidate : std::size_t { kOneDirection, kDecomposition, kFromLowest, kOneTurnedOver, kDecompositionTurnedOver, kAutoCandidates };
-constexpr std::array<const char*, kAutoCandidates> kAutoLabels = {"one build direction", "the decomposition",
-                                                                  "the decomposition from the lowest point", "one build direction turned over",
-                                                                  "the decomposition turned over"};
+enum AutoCandidate : std::size_t {
+  kOneDirection,
+  kDecomposition,
+  kFromLowest,
+  kOneTurnedOver,
+  kDecompositionTurnedOver,
+  kOneOnASide,
+  kAutoCandidates
+};
+constexpr std::array<const char*, kAutoCandidates> kAutoLabels = {
+    "one build direction",           "the decomposition", "the decomposition from the lowest point", "one build direction turned over",
+    "the decomposition turned over", "one build direction on a side face"};
+
+// A side face to stand the part on: at least this many bead widths squared, and leaving at most
+// this share of the overhang (mesh::overhang_area) that the part upright or turned over leaves.
+constexpr double kSideFaceMinBeads2 = 25.0;
+constexpr double kSideGainShare = 0.5;
+// Directions within this of the given one or its reverse are those already tried, degrees.
+constexpr double kSameDirectionDeg = 1.0;
+
+// The build direction that stands the part on one of its planar faces (the reverse of its outward
+// normal) and leaves the least overhang by the facets (the larger face on a tie), when that is at
+// most kSideGainShare of what UP and its reverse leave: a block with a hole across it, built
+// lying on its side, has the hole upright. None when no face does. O(F) per planar face.
+std::optional<Vec3> side_direction(const mesh::Mesh& m, Vec3 up, const process::ProcessConfig& process) {
+  const double alpha = process.self_supporting_deg * std::numbers::pi / 180.0;
+  const Vec3 u = core::normalized(up);
+  const double upright = std::min(mesh::overhang_area(m, u, alpha), mesh::overhang_area(m, u * -1.0, alpha));
+  if (upright == 0.0) return std::nullopt;
+  const double min_area = kSideFaceMinBeads2 * process.bead_width_mm * process.bead_width_mm;
+  const double same_cos = std::cos(kSameDirectionDeg * std::numbers::pi / 180.0);
+  std::optional<Vec3> best;
+  double best_mm2 = kSideGainShare * upright, best_face = 0.0;
+  for (const analysis::BaseFace& f : analysis::base_faces(m)) {
+    const Vec3 d = core::normalized(f.normal) * -1.0;
+    if (f.area_mm2 < min_area || std::abs(core::dot(d, u)) >= same_cos) continue;
+    const double mm2 = mesh::overhang_area(m, d, alpha);
+    if (mm2 < best_mm2 || (best && mm2 == best_mm2 && f.area_mm2 > best_face)) best = d, best_mm2 = mm2, best_face = f.area_mm2;
+  }
+  return best;
+}
 
 // The automatic choice. The candidates are made in two lanes side by side (the directions in one,
 // the decompositions in the other), and a candidate is stopped once one before it is support-free:
@@ -474,6 +511,11 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
   const bool may_turn_over = o.root_base.kind == analysis::RootBase::Kind::kAuto;
   std::array<std::optional<core::Result<Candidate>>, kAutoCandidates> made;
   std::array<std::atomic<bool>, kAutoCandidates> unwanted{};
+  Vec3 side{0, 0, 1};  // kOneOnASide's direction, when made
+  auto label = [&](std::size_t i) {
+    if (i != kOneOnASide) return std::string(kAutoLabels[i]);
+    return fmt::format("{} (along ({:.3f}, {:.3f}, {:.3f}))", kAutoLabels[i], side.x, side.y, side.z);
+  };
   auto make = [&](std::size_t i, auto&& plan) {
     if (unwanted[i].load()) return;
     made[i].emplace(plan(&unwanted[i]));
@@ -486,7 +528,14 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
       [&] {
         const core::ProgressScope scope(progress);
         make(kOneDirection, [&](auto stop) { return plan_single(part, machine, process, o, stop); });
-        if (may_turn_over) make(kOneTurnedOver, [&](auto stop) { return plan_single(part, machine, process, over, stop); });
+        if (!may_turn_over) return;
+        make(kOneTurnedOver, [&](auto stop) { return plan_single(part, machine, process, over, stop); });
+        if (unwanted[kOneOnASide].load()) return;
+        if (const auto lying_along = side_direction(part.mesh, o.direction, process)) {
+          PlanPartOptions lying = o;
+          lying.direction = side = *lying_along;
+          make(kOneOnASide, [&](auto stop) { return plan_single(part, machine, process, lying, stop); });
+        }
       },
       [&] {
         const core::ProgressScope scope(progress);
@@ -507,7 +556,7 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
     const core::Result<Candidate>& c = *made[taken];
     if (!c) {
       if (!first_code) first_code = c.error().code;
-      refused.push_back(fmt::format("{}: {}", kAutoLabels[taken], c.error().message));
+      refused.push_back(fmt::format("{}: {}", label(taken), c.error().message));
       continue;
     }
     if (!best || better(c.value().plan, plan_of(*best))) best = taken;
@@ -523,9 +572,10 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
   // The candidates it did better than, with what they would have left.
   std::vector<std::string> outdone;
   for (std::size_t i = 0; i < taken; ++i) {
-    if (i != *best && made[i] && made[i]->ok()) outdone.push_back(fmt::format("{}: {}", kAutoLabels[i], summary(plan_of(i))));
+    if (i != *best && made[i] && made[i]->ok()) outdone.push_back(fmt::format("{}: {}", label(i), summary(plan_of(i))));
   }
-  why = fmt::format("{} ({}{}{})", kAutoLabels[*best], summary(plan_of(*best)), outdone.empty() ? "" : fmt::format("; also tried: {}", fmt::join(outdone, "; ")),
+  why = fmt::format("{} ({}{}{})", label(*best), summary(plan_of(*best)),
+                    outdone.empty() ? "" : fmt::format("; also tried: {}", fmt::join(outdone, "; ")),
                     refused.empty() ? "" : fmt::format("; refused: {}", fmt::join(refused, "; ")));
   return std::move(made[*best]->value());
 }
@@ -743,8 +793,8 @@ std::optional<PlanPartResult> redirected(const mesh::RepairedMesh& part, const m
 }
 
 // One direction in place of a decomposition whose program failed: upright and, where auto may turn
-// the part over, turned over too, the better first (as choose_auto takes them); the first that
-// reads back clean, with its label.
+// the part over, turned over and stood on a side face (side_direction) too, the better first (as
+// choose_auto takes them); the first that reads back clean, with its label.
 std::optional<std::pair<PlanPartResult, const char*>> clean_single(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                                                    const process::ProcessConfig& process, const PlanPartOptions& options) {
   std::vector<std::pair<core::Result<Candidate>, const char*>> tries;
@@ -752,9 +802,16 @@ std::optional<std::pair<PlanPartResult, const char*>> clean_single(const mesh::R
   if (options.root_base.kind == analysis::RootBase::Kind::kAuto) {
     PlanPartOptions over = options;
     over.direction = options.direction * -1.0;
-    auto turned = plan_single(part, machine, process, over);
-    const bool first = turned && (!tries[0].first || better(turned.value().plan, tries[0].first.value().plan));
-    tries.emplace(first ? tries.begin() : tries.end(), std::move(turned), kAutoLabels[kOneTurnedOver]);
+    tries.emplace_back(plan_single(part, machine, process, over), kAutoLabels[kOneTurnedOver]);
+    if (const auto side = side_direction(part.mesh, options.direction, process)) {
+      PlanPartOptions lying = options;
+      lying.direction = *side;
+      tries.emplace_back(plan_single(part, machine, process, lying), kAutoLabels[kOneOnASide]);
+    }
+    // The better first (as choose_auto takes them), the earlier on a tie.
+    std::stable_sort(tries.begin(), tries.end(), [](const auto& a, const auto& b) {
+      return a.first && (!b.first || better(a.first.value().plan, b.first.value().plan));
+    });
   }
   for (auto& [candidate, label] : tries) {
     if (auto clean = clean_program(std::move(candidate), Strategy::kSingle, machine, process, options)) return std::pair{std::move(*clean), label};
@@ -838,14 +895,21 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
       made = {}, mid_air = false, collides = false;
     }
   }
+  // auto's one direction in place of a failed decomposition (clean_single), made once when asked.
+  std::optional<std::optional<std::pair<PlanPartResult, const char*>>> single_instead;
+  auto single_fallback = [&]() -> std::optional<std::pair<PlanPartResult, const char*>>& {
+    if (!single_instead) single_instead.emplace(clean_single(part, machine, process, options));
+    return *single_instead;
+  };
   if (options.redirect_regions && made && collides && !mid_air && out.strategy_used == Strategy::kDecompose && options.prebuilt.empty() &&
       !options.substrate) {
     // No build order or torch tilt cleared the head (relieve): the regions it struck in, along other
     // directions (Dwivedi's rule base: the region's direction before giving up).
     if (auto alt = redirected(part, machine, process, options, chosen.value(), out)) {
-      if (options.strategy == Strategy::kAuto && alt->plan.unsupported_area_mm2 > 0.0) {
-        // Not support-free: one direction may leave less (as auto compares them).
-        if (auto single = clean_single(part, machine, process, options); single && better(single->first.plan, alt->plan)) alt.reset();
+      if (options.strategy == Strategy::kAuto) {
+        // One direction (upright, turned over or on a side face) may leave less overhang, or as
+        // little in one region: auto compares them as it compares its candidates (and takes it below).
+        if (auto& single = single_fallback(); single && better(single->first.plan, alt->plan)) alt.reset();
       }
       if (alt) {
         std::string why;
@@ -867,8 +931,8 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // The decomposition's program cannot be written (a limit of the machine that only shows in
     // the program, such as C winding past its end stops on a tilted region), or, read back, a
     // region starts in mid-air, or the head strikes something no order or tilt could avoid: one
-    // direction instead (upright or turned over), when that one reads back clean.
-    if (auto clean = clean_single(part, machine, process, options)) {
+    // direction instead (upright, turned over or on a side face), when that one reads back clean.
+    if (auto& clean = single_fallback()) {
       auto& [alt, label] = *clean;
       const std::string why =
           !made     ? fmt::format("the decomposition's program cannot be written: {}", made.error().message)

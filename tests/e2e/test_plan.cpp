@@ -131,7 +131,7 @@ TEST_P(PlanOnShippedMachines, EveryMachineFilePlansThePart) {
     checked = dir / "without_tcp_switch.ngc";
     std::ofstream(checked) << rest;
   }
-  const int status = std::system(("'" + rs274 + "' -g '" + checked.string() + "' '" + (dir / "canon.txt").string() + "' >/dev/null 2>&1 </dev/null").c_str());
+  const int status = std::system((rs274_command(rs274, checked, dir / "canon.txt") + " >/dev/null 2>&1 </dev/null").c_str());
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rs274 refused " << checked << " for " << file;
 }
 
@@ -320,13 +320,13 @@ TEST(PlanRelief, ARoundThatStrikesAsOftenEndsTheRelief) {
   EXPECT_EQ(report["relief_rounds"].get<int>(), 1);
 }
 
-// The same shelf along X and turned 90° about Z (along Y), with defaults: the decomposition builds
+// The same shelf along X and turned 90° about Z (along Y), decomposed: the decomposition builds
 // the shelf's region along the direction its overhang search ended on, leaning over the wall, and
 // the head strikes the wall where no order or torch tilt clears it. The struck regions are built
-// along other directions (rule direction.redirected) instead of giving the decomposition up for
-// one direction (228 mm2 unsupported, what --keep-directions still gets): each plans decomposed,
-// reads back with no collision, leaves under 1 mm2 unsupported, and plan.json and explain name the
-// rule; along Y it is support-free with every bead grounded.
+// along other directions (rule direction.redirected) instead of the plan being given up (exit 4,
+// what --keep-directions still gets): each reads back with no collision, leaves under 1 mm2
+// unsupported, and plan.json and explain name the rule; along Y it is support-free with every bead
+// grounded. (With defaults auto stands such a prism on its end face: PlanAuto below.)
 TEST(PlanRedirect, AShelfWhoseRegionStrikesTheWallIsBuiltAlongAnotherDirection) {
   TempDir dir;
   const RawMesh along_x =
@@ -339,10 +339,9 @@ TEST(PlanRedirect, AShelfWhoseRegionStrikesTheWallIsBuiltAlongAnotherDirection) 
     std::filesystem::create_directories(out);
     const auto part = out / "shelf.stl";
     std::ofstream(part, std::ios::binary) << binary_stl(mesh);
-    const auto plan = run_cli("plan '" + part.string() + "' --no-html -o '" + out.string() + "'");
+    const auto plan = run_cli("plan '" + part.string() + "' --strategy decompose --no-html -o '" + out.string() + "'");
     ASSERT_EQ(plan.exit_code, 0) << name << ": " << plan.err;
     const auto report = read_json(out / "report.json");
-    EXPECT_EQ(report["strategy"].get<std::string>(), "decompose") << name << ": " << report["strategy_reason"];
     EXPECT_EQ(report["collisions"].get<int>(), 0) << name;
     EXPECT_LT(report["unsupported_area_mm2"].get<double>(), 1.0) << name << ": " << report["strategy_reason"];
     const auto plan_json = read_json(out / "plan.json");
@@ -359,18 +358,46 @@ TEST(PlanRedirect, AShelfWhoseRegionStrikesTheWallIsBuiltAlongAnotherDirection) 
       check_readback(out, "shelf");
     }
   }
-  const auto kept = dir / "kept";
-  const auto plan = run_cli("plan '" + (dir / "y" / "shelf.stl").string() + "' --keep-directions --no-html -o '" + kept.string() + "'");
-  ASSERT_EQ(plan.exit_code, 0) << plan.err;
-  const auto report = read_json(kept / "report.json");
-  EXPECT_EQ(report["strategy"].get<std::string>(), "single") << report["strategy_reason"];
-  EXPECT_GT(report["unsupported_area_mm2"].get<double>(), 100.0);
+  const auto kept = run_cli("plan '" + (dir / "y" / "shelf.stl").string() + "' --strategy decompose --keep-directions --no-html -o '" +
+                            (dir / "kept").string() + "'");
+  EXPECT_EQ(kept.exit_code, 4) << kept.err;
+  EXPECT_NE(kept.err.find("strikes"), std::string::npos) << kept.err;
+}
+
+// The shelf prism above, along X, along Y and turned 30° about Z, with defaults: upright and turned
+// over it overhangs, and its decomposition strikes the wall (redirected, it is support-free at
+// best in three regions). Stood on an end face its profile is every layer's section: auto takes
+// that, one region, support-free, read back clean, and says so.
+TEST(PlanAuto, AShelfPrismStandsOnItsEndFace) {
+  TempDir dir;
+  const RawMesh along_x =
+      prism_xz({{0, 0}, {8, 0}, {8, 10}, {14, 10}, {34, 30}, {34, 34}, {20, 34}, {20, 30}, {8, 18}, {8, 50}, {0, 50}}, 40.0);
+  RawMesh along_y = along_x, turned = along_x;
+  for (auto& p : along_y.points) std::swap(p.x, p.y);
+  for (auto& t : along_y.triangles) std::swap(t[1], t[2]);  // the mirror turns the faces inside out
+  const double c = std::cos(std::numbers::pi / 6.0), s = std::sin(std::numbers::pi / 6.0);
+  for (auto& p : turned.points) p = {c * p.x - s * p.y, s * p.x + c * p.y, p.z};
+  for (const auto& [name, mesh] : {std::pair<std::string, RawMesh>{"x", along_x}, {"y", along_y}, {"turned", turned}}) {
+    SCOPED_TRACE(name);
+    const auto out = dir / name;
+    std::filesystem::create_directories(out);
+    const auto part = out / "shelf.stl";
+    std::ofstream(part, std::ios::binary) << binary_stl(mesh);
+    const auto plan = run_cli("plan '" + part.string() + "' --no-html -o '" + out.string() + "'");
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const auto report = read_json(out / "report.json");
+    const std::string reason = report["strategy_reason"].get<std::string>();
+    EXPECT_NE(reason.find("one build direction on a side face"), std::string::npos) << reason;
+    EXPECT_EQ(report["regions"].get<int>(), 1) << reason;
+    EXPECT_TRUE(report["support_free"].get<bool>()) << reason;
+    check_readback(out, "shelf");
+  }
 }
 
 // The same shelf upside down, with defaults: its decomposition strikes what it built before, so
-// one direction is taken instead, and of the two ways up the one auto itself would prefer (turned
-// over, standing on the wall's top with the shelf rising from it), not the upright one.
-TEST(PlanFallback, ADecompositionThatStrikesGivesWayToTheBetterWayUp) {
+// one direction is taken instead, the best of those auto itself would try (upright, turned over,
+// stood on a side face), not the upright one: here its end face, support-free.
+TEST(PlanFallback, ADecompositionThatStrikesGivesWayToTheBestSingleDirection) {
   TempDir dir;
   const auto part = dir / "shelf.stl";
   std::vector<std::array<double, 2>> outline{{0, 0}, {8, 0}, {8, 10}, {14, 10}, {34, 30}, {34, 34}, {20, 34}, {20, 30}, {8, 18}, {8, 50}, {0, 50}};
@@ -385,8 +412,9 @@ TEST(PlanFallback, ADecompositionThatStrikesGivesWayToTheBetterWayUp) {
   const auto report = read_json(dir / "report.json");
   const std::string reason = report["strategy_reason"].get<std::string>();
   ASSERT_NE(reason.find("the decomposition's program strikes"), std::string::npos) << "the part no longer shows what the test is about: " << reason;
-  EXPECT_EQ(reason.rfind("one build direction turned over", 0), 0u) << reason;
+  EXPECT_EQ(reason.rfind("one build direction on a side face", 0), 0u) << reason;
   EXPECT_LT(report["unsupported_area_mm2"].get<double>(), 0.5 * upright_mm2) << reason;
+  EXPECT_TRUE(report["support_free"].get<bool>()) << reason;
   check_readback(dir.path(), "shelf");
 }
 
@@ -874,7 +902,8 @@ TEST(PlanVariants, DefaultPlanOfPartsMadeHereIsSupportFreeAndSound) {
     const auto report = read_json(dir / "report.json");
     if (v.head_may_not_fit && report["strategy"] == "single") {
       EXPECT_NE(r.err.find("the decomposition's program strikes"), std::string::npos) << r.err;
-      EXPECT_EQ(run_cli("plan '" + stl.string() + "' --strategy decompose --no-html -o '" + (dir / "d").string() + "'").exit_code, 4);
+      EXPECT_EQ(run_cli("plan '" + stl.string() + "' --strategy decompose --keep-directions --no-html -o '" + (dir / "d").string() + "'").exit_code,
+                4);
       check_readback(dir.path(), v.name);
       continue;
     }
