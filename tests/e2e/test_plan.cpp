@@ -303,6 +303,29 @@ TEST(PlanGapFill, TaperedFinsAreLaidAlongTheirMiddleAndReadBackGrounded) {
   }
 }
 
+// MESH written to DIR/NAME/part.stl and planned with ARGS: the output directory and the run.
+std::pair<std::filesystem::path, CliRun> plan_own(const std::filesystem::path& dir, const std::string& name, const RawMesh& mesh,
+                                                  const std::string& args = "") {
+  const auto out = dir / name;
+  std::filesystem::create_directories(out);
+  const auto part = out / "part.stl";
+  std::ofstream(part, std::ios::binary) << binary_stl(mesh);
+  return {out, run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html " + args)};
+}
+
+// MESH planned with defaults (plan_own): support-free, and its program, read back, lays every bead
+// on what is under it (the library's check and ours); rs274 reads it.
+void expect_defaults_support_free_and_grounded(const std::filesystem::path& dir, const std::string& name, const RawMesh& mesh) {
+  SCOPED_TRACE(name);
+  const auto [out, plan] = plan_own(dir, name, mesh);
+  ASSERT_EQ(plan.exit_code, 0) << plan.err;
+  const auto report = read_json(out / "report.json");
+  EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+  EXPECT_EQ(report["build_check"]["ungrounded_samples"].get<int>(), 0) << out << report["build_check"]["problems"];
+  check_readback(out, "part");
+  expect_rs274_reads(out, out / "part.ngc");
+}
+
 // A wall with a shelf leaning out 45° and a lip at its end (our own), decomposed: the shelf's
 // region, built after the whole wall, brings the nozzle into the wall above it, centimetres deep.
 // Turning the torch at the places struck only moves the strikes: relief stops after the first round
@@ -335,11 +358,7 @@ TEST(PlanRedirect, AShelfWhoseRegionStrikesTheWallIsBuiltAlongAnotherDirection) 
   for (auto& p : along_y.points) std::swap(p.x, p.y);
   for (auto& t : along_y.triangles) std::swap(t[1], t[2]);  // the mirror turns the faces inside out
   for (const auto& [name, mesh] : {std::pair<std::string, RawMesh>{"x", along_x}, {"y", along_y}}) {
-    const auto out = dir / name;
-    std::filesystem::create_directories(out);
-    const auto part = out / "shelf.stl";
-    std::ofstream(part, std::ios::binary) << binary_stl(mesh);
-    const auto plan = run_cli("plan '" + part.string() + "' --strategy decompose --no-html -o '" + out.string() + "'");
+    const auto [out, plan] = plan_own(dir.path(), name, mesh, "--strategy decompose");
     ASSERT_EQ(plan.exit_code, 0) << name << ": " << plan.err;
     const auto report = read_json(out / "report.json");
     EXPECT_EQ(report["collisions"].get<int>(), 0) << name;
@@ -355,10 +374,10 @@ TEST(PlanRedirect, AShelfWhoseRegionStrikesTheWallIsBuiltAlongAnotherDirection) 
     EXPECT_NE(why.out.find("direction.redirected"), std::string::npos) << why.out;
     if (name == "y") {
       EXPECT_TRUE(report["support_free"].get<bool>()) << report["strategy_reason"];
-      check_readback(out, "shelf");
+      check_readback(out, "part");
     }
   }
-  const auto kept = run_cli("plan '" + (dir / "y" / "shelf.stl").string() + "' --strategy decompose --keep-directions --no-html -o '" +
+  const auto kept = run_cli("plan '" + (dir / "y" / "part.stl").string() + "' --strategy decompose --keep-directions --no-html -o '" +
                             (dir / "kept").string() + "'");
   EXPECT_EQ(kept.exit_code, 4) << kept.err;
   EXPECT_NE(kept.err.find("strikes"), std::string::npos) << kept.err;
@@ -379,18 +398,14 @@ TEST(PlanAuto, AShelfPrismStandsOnItsEndFace) {
   for (auto& p : turned.points) p = {c * p.x - s * p.y, s * p.x + c * p.y, p.z};
   for (const auto& [name, mesh] : {std::pair<std::string, RawMesh>{"x", along_x}, {"y", along_y}, {"turned", turned}}) {
     SCOPED_TRACE(name);
-    const auto out = dir / name;
-    std::filesystem::create_directories(out);
-    const auto part = out / "shelf.stl";
-    std::ofstream(part, std::ios::binary) << binary_stl(mesh);
-    const auto plan = run_cli("plan '" + part.string() + "' --no-html -o '" + out.string() + "'");
+    const auto [out, plan] = plan_own(dir.path(), name, mesh);
     ASSERT_EQ(plan.exit_code, 0) << plan.err;
     const auto report = read_json(out / "report.json");
     const std::string reason = report["strategy_reason"].get<std::string>();
     EXPECT_NE(reason.find("one build direction on a side face"), std::string::npos) << reason;
     EXPECT_EQ(report["regions"].get<int>(), 1) << reason;
     EXPECT_TRUE(report["support_free"].get<bool>()) << reason;
-    check_readback(out, "shelf");
+    check_readback(out, "part");
   }
 }
 
@@ -429,17 +444,8 @@ TEST(PlanFill, TwistedBarsAFewBeadsWideReadBackWithEveryBeadGrounded) {
     std::uint32_t levels;
   };
   for (const Bar b : {Bar{30.0, 4.0, -90.0, 50.0, 60}, Bar{24.0, 4.3, -60.0, 30.0, 25}, Bar{26.0, 3.9, 75.0, 40.0, 90}}) {
-    const auto out = dir / fmt::format("bar_{}", b.twist_deg);
-    std::filesystem::create_directories(out);
-    const auto part = out / "bar.stl";
-    std::ofstream(part, std::ios::binary) << binary_stl(twisted_bar(b.length, b.width, b.twist_deg, b.height, b.levels));
-    const auto plan = run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html");
-    ASSERT_EQ(plan.exit_code, 0) << plan.err;
-    const auto report = read_json(out / "report.json");
-    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
-    EXPECT_EQ(report["build_check"]["ungrounded_samples"].get<int>(), 0) << out << report["build_check"]["problems"];
-    check_readback(out, "bar");
-    expect_rs274_reads(out, out / "bar.ngc");
+    const RawMesh bar = twisted_bar(b.length, b.width, b.twist_deg, b.height, b.levels);
+    expect_defaults_support_free_and_grounded(dir.path(), fmt::format("bar_{}", b.twist_deg), bar);
   }
 }
 
@@ -459,16 +465,7 @@ TEST(PlanFill, ArchesOfNoWholeNumberOfBeadsReadBackWithEveryBeadGrounded) {
       outline.push_back({a.radius * std::cos(t), a.radius * std::sin(t)});
     }
     for (const auto& p : {std::array<double, 2>{a.radius, 0.0}, {a.half_span, 0.0}, {a.half_span, a.height}, {-a.half_span, a.height}}) outline.push_back(p);
-    const auto out = dir / fmt::format("arch_{}", a.half_span);
-    std::filesystem::create_directories(out);
-    const auto part = out / "arch.stl";
-    std::ofstream(part, std::ios::binary) << binary_stl(prism_xz(outline, a.depth));
-    const auto plan = run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html");
-    ASSERT_EQ(plan.exit_code, 0) << plan.err;
-    const auto report = read_json(out / "report.json");
-    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
-    EXPECT_EQ(report["build_check"]["ungrounded_samples"].get<int>(), 0) << out << report["build_check"]["problems"];
-    check_readback(out, "arch");
+    expect_defaults_support_free_and_grounded(dir.path(), fmt::format("arch_{}", a.half_span), prism_xz(outline, a.depth));
   }
 }
 
