@@ -50,6 +50,12 @@ constexpr std::size_t kNamedCollisions = 3;
 // Regions tried along other directions, one after the other, at most (redirected).
 constexpr std::size_t kRedirectRegions = 2;
 
+// A unit direction for messages, "(x, y, z)" to 3 decimals, with no "-0.000".
+std::string direction_text(Vec3 d) {
+  auto tidy = [](double v) { return std::abs(v) < 5e-4 ? 0.0 : v; };
+  return fmt::format("({:.3f}, {:.3f}, {:.3f})", tidy(d.x), tidy(d.y), tidy(d.z));
+}
+
 std::string describe(const verify::Collision& c) {
   return fmt::format("line {} (layer {} region {}) at ({:.2f}, {:.2f}, {:.2f}), the {} ({:.2f} mm)", c.line, c.layer, c.region, c.tip.x, c.tip.y,
                      c.tip.z, c.body, c.depth_mm);
@@ -514,7 +520,7 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
   Vec3 side{0, 0, 1};  // kOneOnASide's direction, when made
   auto label = [&](std::size_t i) {
     if (i != kOneOnASide) return std::string(kAutoLabels[i]);
-    return fmt::format("{} (along ({:.3f}, {:.3f}, {:.3f}))", kAutoLabels[i], side.x, side.y, side.z);
+    return fmt::format("{} (along {})", kAutoLabels[i], direction_text(side));
   };
   auto make = [&](std::size_t i, auto&& plan) {
     if (unwanted[i].load()) return;
@@ -761,9 +767,8 @@ std::optional<PlanPartResult> redirected(const mesh::RepairedMesh& part, const m
       PlanRegion& r = tried[i];
       const Vec3 was = core::normalized(r.direction);
       r.direction_rule = kDirectionRedirected;
-      r.direction_why = fmt::format("along ({:.3f}, {:.3f}, {:.3f}) the head struck something at {} samples (the first: {}); built along {} "
-                                    "instead",
-                                    was.x, was.y, was.z, current->check.collisions, describe(current->check.collision_list.front()), name);
+      r.direction_why = fmt::format("along {} the head struck something at {} samples (the first: {}); built along {} instead", direction_text(was),
+                                    current->check.collisions, describe(current->check.collision_list.front()), name);
       r.direction = direction;
       auto plan = make_plan(part, machine, process, source.plan_options, tried);
       if (!plan) continue;
