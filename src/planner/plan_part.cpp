@@ -824,6 +824,51 @@ std::optional<std::pair<PlanPartResult, const char*>> clean_single(const mesh::R
   return std::nullopt;
 }
 
+// auto's one direction in place of a failed decomposition (clean_single), made on first use.
+class SingleFallback {
+ public:
+  SingleFallback(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                 const PlanPartOptions& options)
+      : part_(part), machine_(machine), process_(process), options_(options) {}
+  std::optional<std::pair<PlanPartResult, const char*>>& get() {
+    if (!made_) made_.emplace(clean_single(part_, machine_, process_, options_));
+    return *made_;
+  }
+
+ private:
+  const mesh::RepairedMesh& part_;
+  const machine::MachineConfig& machine_;
+  const process::ProcessConfig& process_;
+  const PlanPartOptions& options_;
+  std::optional<std::optional<std::pair<PlanPartResult, const char*>>> made_;
+};
+
+// No build order or torch tilt cleared the head in OUT, CHOSEN's decomposition (relieve): the
+// regions it struck in, along other directions (redirected; Dwivedi's rule base: the region's
+// direction before giving up). With auto, one direction (SINGLE: upright, turned over or on a side
+// face) that leaves less overhang, or as little in one region, wins (and is taken by the caller).
+// True when OUT was replaced by the redirected plan, with its choice and a warning naming why.
+bool take_redirected(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                     const PlanPartOptions& options, const Candidate& chosen, SingleFallback& single, PlanPartResult& out) {
+  auto alt = redirected(part, machine, process, options, chosen, out);
+  if (!alt) return false;
+  if (options.strategy == Strategy::kAuto) {
+    if (auto& one = single.get(); one && better(one->first.plan, alt->plan)) return false;
+  }
+  std::string why;
+  for (const PlanRegion& r : alt->plan.placed_regions) {
+    if (r.direction_rule == kDirectionRedirected) why += fmt::format("{}region {}: {}", why.empty() ? "" : "; ", r.id, r.direction_why);
+  }
+  why += fmt::format(" ({} mm2 unsupported)", area_text(alt->plan.unsupported_area_mm2));
+  alt->choice = out.choice + "; " + why;
+  alt->warnings = out.warnings;
+  alt->warnings.push_back(why);
+  alt->choose_s = out.choose_s;
+  alt->axis = std::move(out.axis);
+  out = std::move(*alt);
+  return true;
+}
+
 // The layers of PLAN that turn with the part rather than stay parallel: "tilted", "conformal",
 // "tilted and conformal", or empty when every region is planar.
 std::string turned_layers(const Plan& plan) {
@@ -832,6 +877,62 @@ std::string turned_layers(const Plan& plan) {
   };
   const bool tilted = uses(slicing::LayerStrategy::kTilted), conformal = uses(slicing::LayerStrategy::kConformal);
   return tilted && conformal ? "tilted and conformal" : tilted ? "tilted" : conformal ? "conformal" : "";
+}
+
+// OUT as plan_part returns it: its warnings (feeds the machine slows, robot wrist and
+// configuration, thin regions, overhang, collisions kept, a region in mid-air), or kInfeasible
+// naming the first collisions unless OPTIONS allow them.
+core::Result<PlanPartResult> finished(PlanPartResult out, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                      const PlanPartOptions& options) {
+  const Plan& plan = out.plan;
+  // Catalogue O3: a linear maximum below the process's feeds slows moves below the planned feed
+  // (F100 on every move): a warning with the count. Slowing where the rotary axes turn (and the
+  // linear axes with them) is ordinary on a 5-axis machine and not warned of.
+  const bool slow_machine = machine.feed.linear_max_mm_min < 60.0 * std::max(process.deposit_feed_mm_s, process.travel_feed_mm_s);
+  if (const post::GcodeStats& g = out.gcode_stats; slow_machine && g.linear_limited > 0) {
+    out.warnings.push_back(fmt::format("{} of {} feed blocks run slower than planned: the machine's linear maximum "
+                                       "(feed.linear_max_mm_min {} mm/min) is below the process's feed there",
+                                       g.linear_limited, g.feed_blocks, machine.feed.linear_max_mm_min));
+  }
+  if (const post::GcodeStats& g = out.gcode_stats; machine.robot && g.robot_near_singular > 0) {
+    out.warnings.push_back(fmt::format("{} of {} robot targets hold the wrist within robot.wrist_margin_deg ({}°) of its singularity "
+                                       "(smallest |axis 5| {:.2f}°): the controller may slow down or turn axes 4 and 6 fast there",
+                                       g.robot_near_singular, g.robot_targets, machine.robot->wrist_margin_deg, g.robot_min_wrist_deg));
+  }
+  if (const post::GcodeStats& g = out.gcode_stats; machine.robot && g.robot_config_changes > 0) {
+    out.warnings.push_back(fmt::format("the robot changes its configuration {} times, each on a joint move (MoveJ) with the process off",
+                                       g.robot_config_changes));
+  }
+  if (plan.thin_regions > 0) {
+    out.warnings.push_back(fmt::format("{} regions thinner than a bead ({:.1f} mm2) get no path; see plan.json", plan.thin_regions,
+                                       plan.thin_area_mm2));
+  }
+  if (plan.unsupported_area_mm2 > 0.0) {
+    out.warnings.push_back(fmt::format("the plan is not support-free: {} mm2 unsupported (report.html shows the pieces in red)",
+                                       area_text(plan.unsupported_area_mm2)));
+  }
+  if (out.check.collisions > 0 && !out.check.collision_list.empty()) {
+    std::string first;
+    for (std::size_t i = 0; i < out.check.collision_list.size() && i < kNamedCollisions; ++i) {
+      first += (i ? "; " : "") + describe(out.check.collision_list[i]);
+    }
+    const std::uint64_t prebuilt = out.check.prebuilt_collisions;
+    const std::string what = fmt::format("read back, the head strikes something at {} samples (the plate or table at {}, earlier deposit "
+                                         "at {}{}); the first: {}",
+                                         out.check.collisions, out.check.head_collisions, out.check.material_collisions - prebuilt,
+                                         prebuilt > 0 ? fmt::format(", the prebuilt part at {}", prebuilt) : std::string(), first);
+    if (!options.allow_collisions) {
+      return core::make_error(core::ErrorCode::kInfeasible,
+                              fmt::format("{}: no build order or torch tilt removed them; a slimmer head (machine nozzle), another "
+                                          "strategy, or --allow-collisions to write the plan for inspection",
+                                          what));
+    }
+    out.warnings.push_back(what + "; report.html shows them in red");
+  }
+  if (!out.check.mid_air_regions.empty()) {
+    out.warnings.push_back(fmt::format("read back, region {} starts in mid-air: its first bead rests on nothing", out.check.mid_air_regions.front()));
+  }
+  return out;
 }
 
 // plan_part with the layers OPTIONS.plan.layers asks for (plan_part adds the comparison of auto
@@ -901,43 +1002,17 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     }
   }
   // auto's one direction in place of a failed decomposition (clean_single), made once when asked.
-  std::optional<std::optional<std::pair<PlanPartResult, const char*>>> single_instead;
-  auto single_fallback = [&]() -> std::optional<std::pair<PlanPartResult, const char*>>& {
-    if (!single_instead) single_instead.emplace(clean_single(part, machine, process, options));
-    return *single_instead;
-  };
+  SingleFallback single(part, machine, process, options);
   if (options.redirect_regions && made && collides && !mid_air && out.strategy_used == Strategy::kDecompose && options.prebuilt.empty() &&
       !options.substrate) {
-    // No build order or torch tilt cleared the head (relieve): the regions it struck in, along other
-    // directions (Dwivedi's rule base: the region's direction before giving up).
-    if (auto alt = redirected(part, machine, process, options, chosen.value(), out)) {
-      if (options.strategy == Strategy::kAuto) {
-        // One direction (upright, turned over or on a side face) may leave less overhang, or as
-        // little in one region: auto compares them as it compares its candidates (and takes it below).
-        if (auto& single = single_fallback(); single && better(single->first.plan, alt->plan)) alt.reset();
-      }
-      if (alt) {
-        std::string why;
-        for (const PlanRegion& r : alt->plan.placed_regions) {
-          if (r.direction_rule == kDirectionRedirected) why += fmt::format("{}region {}: {}", why.empty() ? "" : "; ", r.id, r.direction_why);
-        }
-        why += fmt::format(" ({} mm2 unsupported)", area_text(alt->plan.unsupported_area_mm2));
-        alt->choice = out.choice + "; " + why;
-        alt->warnings = out.warnings;
-        alt->warnings.push_back(why);
-        alt->choose_s = out.choose_s;
-        alt->axis = std::move(out.axis);
-        out = std::move(*alt);
-        collides = false;
-      }
-    }
+    collides = !take_redirected(part, machine, process, options, chosen.value(), single, out);
   }
   if (options.strategy == Strategy::kAuto && options.prebuilt.empty() && !options.substrate && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
     // The decomposition's program cannot be written (a limit of the machine that only shows in
     // the program, such as C winding past its end stops on a tilted region), or, read back, a
     // region starts in mid-air, or the head strikes something no order or tilt could avoid: one
     // direction instead (upright, turned over or on a side face), when that one reads back clean.
-    if (auto& clean = single_fallback()) {
+    if (auto& clean = single.get()) {
       auto& [alt, label] = *clean;
       const std::string why =
           !made     ? fmt::format("the decomposition's program cannot be written: {}", made.error().message)
@@ -951,55 +1026,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     }
   }
   if (!made) return made.error();
-  const Plan& plan = out.plan;
-  // Catalogue O3: a linear maximum below the process's feeds slows moves below the planned feed
-  // (F100 on every move): a warning with the count. Slowing where the rotary axes turn (and the
-  // linear axes with them) is ordinary on a 5-axis machine and not warned of.
-  const bool slow_machine = machine.feed.linear_max_mm_min < 60.0 * std::max(process.deposit_feed_mm_s, process.travel_feed_mm_s);
-  if (const post::GcodeStats& g = out.gcode_stats; slow_machine && g.linear_limited > 0) {
-    out.warnings.push_back(fmt::format("{} of {} feed blocks run slower than planned: the machine's linear maximum "
-                                       "(feed.linear_max_mm_min {} mm/min) is below the process's feed there",
-                                       g.linear_limited, g.feed_blocks, machine.feed.linear_max_mm_min));
-  }
-  if (const post::GcodeStats& g = out.gcode_stats; machine.robot && g.robot_near_singular > 0) {
-    out.warnings.push_back(fmt::format("{} of {} robot targets hold the wrist within robot.wrist_margin_deg ({}°) of its singularity "
-                                       "(smallest |axis 5| {:.2f}°): the controller may slow down or turn axes 4 and 6 fast there",
-                                       g.robot_near_singular, g.robot_targets, machine.robot->wrist_margin_deg, g.robot_min_wrist_deg));
-  }
-  if (const post::GcodeStats& g = out.gcode_stats; machine.robot && g.robot_config_changes > 0) {
-    out.warnings.push_back(fmt::format("the robot changes its configuration {} times, each on a joint move (MoveJ) with the process off",
-                                       g.robot_config_changes));
-  }
-  if (plan.thin_regions > 0) {
-    out.warnings.push_back(fmt::format("{} regions thinner than a bead ({:.1f} mm2) get no path; see plan.json", plan.thin_regions,
-                                       plan.thin_area_mm2));
-  }
-  if (plan.unsupported_area_mm2 > 0.0) {
-    out.warnings.push_back(fmt::format("the plan is not support-free: {} mm2 unsupported (report.html shows the pieces in red)",
-                                       area_text(plan.unsupported_area_mm2)));
-  }
-  if (out.check.collisions > 0 && !out.check.collision_list.empty()) {
-    std::string first;
-    for (std::size_t i = 0; i < out.check.collision_list.size() && i < kNamedCollisions; ++i) {
-      first += (i ? "; " : "") + describe(out.check.collision_list[i]);
-    }
-    const std::uint64_t prebuilt = out.check.prebuilt_collisions;
-    const std::string what = fmt::format("read back, the head strikes something at {} samples (the plate or table at {}, earlier deposit "
-                                         "at {}{}); the first: {}",
-                                         out.check.collisions, out.check.head_collisions, out.check.material_collisions - prebuilt,
-                                         prebuilt > 0 ? fmt::format(", the prebuilt part at {}", prebuilt) : std::string(), first);
-    if (!options.allow_collisions) {
-      return core::make_error(core::ErrorCode::kInfeasible,
-                              fmt::format("{}: no build order or torch tilt removed them; a slimmer head (machine nozzle), another "
-                                          "strategy, or --allow-collisions to write the plan for inspection",
-                                          what));
-    }
-    out.warnings.push_back(what + "; report.html shows them in red");
-  }
-  if (!out.check.mid_air_regions.empty()) {
-    out.warnings.push_back(fmt::format("read back, region {} starts in mid-air: its first bead rests on nothing", out.check.mid_air_regions.front()));
-  }
-  return out;
+  return finished(std::move(out), machine, process, options);
 }
 
 }  // namespace
