@@ -178,4 +178,24 @@ core::Result<Mesh> difference(const Mesh& a, const Mesh& b) {
   return to_mesh(out);
 }
 
+Mesh grown(const Mesh& mesh, double by_mm) {
+  std::vector<core::Vec3> normal(mesh.vertices.size());
+  for (const Triangle& t : mesh.triangles) {
+    const core::Vec3 n = core::normalized(core::cross(mesh.vertices[t[1]] - mesh.vertices[t[0]], mesh.vertices[t[2]] - mesh.vertices[t[0]]));
+    for (int k = 0; k < 3; ++k) {
+      const core::Vec3 p = mesh.vertices[t[static_cast<std::size_t>(k)]];
+      const core::Vec3 a = core::normalized(mesh.vertices[t[static_cast<std::size_t>((k + 1) % 3)]] - p);
+      const core::Vec3 b = core::normalized(mesh.vertices[t[static_cast<std::size_t>((k + 2) % 3)]] - p);
+      const double corner = std::acos(std::clamp(core::dot(a, b), -1.0, 1.0));
+      if (std::isfinite(corner) && std::isfinite(n.x)) normal[t[static_cast<std::size_t>(k)]] = normal[t[static_cast<std::size_t>(k)]] + n * corner;
+    }
+  }
+  Mesh out = mesh;
+  for (std::size_t i = 0; i < out.vertices.size(); ++i) {
+    const double len = core::norm(normal[i]);
+    if (len > 0.0) out.vertices[i] = out.vertices[i] + normal[i] * (by_mm / len);
+  }
+  return out;
+}
+
 }  // namespace polyaxis::mesh

@@ -197,6 +197,11 @@ Vec3 turned_towards(Vec3 a, Vec3 b, double deg) {
   return core::normalized(a * std::cos(t) + ortho * std::sin(t));
 }
 
+// The part within this of the substrate's surface is the substrate's (--substrate): two
+// tessellations of one surface differ by about this (STEP at the default chordal deviation, 0.01
+// mm; the rounding of STL's floats, 1e-5 mm), and no layer is this thin.
+constexpr double kSubstrateSkinMm = 0.02;
+
 // Faces of a piece within this of the substrate's surface, facing into it, are the piece's base.
 constexpr double kOnSubstrateMm = 1e-6;
 constexpr double kFacingCos = 0.999;
@@ -276,7 +281,11 @@ PlanRegion on_substrate_region(std::uint32_t id, mesh::Mesh piece, Vec3 d) {
 // turns none: the one direction again).
 core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                           const process::ProcessConfig& process, const PlanPartOptions& o, bool per_piece) {
-  auto rest = mesh::difference(part.mesh, *o.substrate);
+  // The substrate grown by a skin: where the part's surface and the substrate's are two
+  // tessellations of one surface (a hub exported apart from its impeller), a sliver of the part
+  // would be left over the substrate and join every piece into one.
+  const mesh::Mesh skin = mesh::grown(*o.substrate, kSubstrateSkinMm);
+  auto rest = mesh::difference(part.mesh, skin);
   if (!rest) return core::make_error(rest.error().code, "--substrate: the part less the substrate: " + rest.error().message);
   if (rest.value().triangles.empty()) {
     return core::make_error(core::ErrorCode::kInfeasible, "--substrate: nothing to build: the substrate holds the whole part");
@@ -289,7 +298,7 @@ core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const 
     const double reach = detail::direction_reach_rad(machine, process);
     bool turned = false;
     for (mesh::Mesh& piece : connected_pieces(rest.value())) {
-      Vec3 d = base_normal(piece, *o.substrate).value_or(up);
+      Vec3 d = base_normal(piece, skin).value_or(up);
       const double angle = std::acos(std::clamp(core::dot(d, up), -1.0, 1.0));
       if (angle > reach) d = turned_towards(d, up, (angle - reach) * 180.0 / std::numbers::pi);
       turned = turned || core::norm(d - up) > 1e-9;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "support/cli.h"
+#include "support/mesh_union.h"
 #include "support/meshes.h"
 #include "support/plan_checks.h"
 
@@ -240,6 +241,64 @@ TEST(PlanSubstrate, PrebuiltRootOfTheDecompositionIsNotDepositedAndGroundsItsChi
   EXPECT_NE(bad.err.find("--prebuilt 7"), std::string::npos) << bad.err;
   const auto child = run_cli("plan '" + parts.back().second.string() + "' --prebuilt 1 --no-html -o '" + (dir / "child").string() + "'");
   EXPECT_EQ(child.exit_code, 2) << child.err;
+}
+
+// FRUSTUM with each side quad split along its other diagonal: the same surface, tessellated as
+// another program would.
+RawMesh other_diagonals(RawMesh frustum) {
+  for (io::Triangle& t : frustum.triangles) {
+    // The side quads' triangles are (a, b, b+1) and (a, b+1, a+1), a and b even (meshes.h).
+    if (t[0] % 2 == 0 && t[1] % 2 == 0 && t[2] == t[1] + 1) {
+      t = {t[0], t[1], t[0] + 1};
+    } else if (t[0] % 2 == 0 && t[1] % 2 == 1 && t[2] == t[0] + 1 && t[1] != t[0] + 1) {
+      t = {t[1] - 1, t[1], t[0] + 1};
+    }
+  }
+  return frustum;
+}
+
+// Fins on a flaring hub, the hub given apart as the substrate with its sides split along the other
+// diagonals, as when a hub and its impeller are exported one by one: the part less the hub is the
+// fins, each a piece of its own grown along the hub's normal under it, not one piece joined by the
+// slivers between the two tessellations. The hub stands on a shaft, the fins clear of the plate.
+TEST(PlanSubstrate, FinsOnAHubGivenApartWithOtherDiagonalsAreEachAPiece) {
+  struct Case {
+    std::string name;
+    double r0, r1, h;
+    std::uint32_t sides, fins;
+  };
+  for (const Case& c : {Case{"four_fins", 16, 24, 24, 48, 4}, Case{"three_fins", 18, 22, 20, 36, 3}}) {
+    SCOPED_TRACE(c.name);
+    RawMesh hub = frustum(c.r0, c.r1, c.h, c.sides), part = hub;
+    for (std::uint32_t k = 0; k < c.fins; ++k) {
+      const double u = 2.0 * M_PI * (k + 0.5) / c.fins;
+      const Vec3 out{std::cos(u), std::sin(u), 0.0}, side{-std::sin(u), std::cos(u), 0.0};
+      RawMesh fin = box({c.r0 - 2.0, -1.5, 2.0}, {c.r1 + 14.0, 1.5, c.h - 2.0});
+      for (Vec3& p : fin.points) p = out * p.x + side * p.y + Vec3{0, 0, p.z};
+      part = mesh_union(part, fin);
+    }
+    const RawMesh substrate = mesh_union(other_diagonals(hub), cylinder({0, 0, -30}, {0, 0, 1}, 10, 30.5, 32));
+    TempDir dir;
+    write_file(dir / (c.name + ".stl"), binary_stl(part));
+    write_file(dir / "hub.stl", binary_stl(substrate));
+    const auto r = run_cli("plan '" + (dir / (c.name + ".stl")).string() + "' --substrate '" + (dir / "hub.stl").string() +
+                           "' --strategy decompose --layers planar --no-html -o '" + dir.path().string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto plan = read_json(dir / "plan.json");
+    ASSERT_EQ(plan["regions"].size(), c.fins + 1);
+    const double slope = std::atan2(c.r1 - c.r0, c.h);
+    for (std::size_t k = 1; k < plan["regions"].size(); ++k) {
+      const auto& d = plan["regions"][k]["build_direction"];
+      // Along the hub's normal: as far below the horizon as the hub flares (placed about Z only).
+      EXPECT_NEAR(std::asin(d[2].get<double>()), -slope, 2.0 * M_PI / 180.0) << "region " << k;
+      // A whole fin: at least its part outside the hub's widest section, 3 × (h − 4) × 14 mm.
+      EXPECT_GT(plan["regions"][k]["volume_mm3"].get<double>(), 3.0 * (c.h - 4.0) * 14.0) << "region " << k;
+    }
+    const RawMesh on_table = placed(substrate, plan);
+    const ReadBack rb = check_readback(dir.path(), c.name, false, &on_table);
+    EXPECT_EQ(rb.ungrounded, 0u) << rb.first_problem;
+    expect_rs274_reads(dir.path(), dir / (c.name + ".ngc"));
+  }
 }
 
 }  // namespace

@@ -51,4 +51,10 @@ core::Result<Mesh> unite(const std::vector<Mesh>& pieces);
 // that would not be a manifold, such as solids meeting along an edge only). Cost: O(F log F).
 core::Result<Mesh> difference(const Mesh& a, const Mesh& b);
 
+// MESH with every vertex moved BY_MM along its angle-weighted normal (outwards for an outward
+// mesh; inwards for a negative BY_MM): a smooth surface moves by BY_MM, faces meeting at an edge or
+// a corner less (a cube's faces by BY_MM/√3). Meant for small offsets, below half the thinnest
+// feature (larger ones can fold the surface). Cost: O(F).
+Mesh grown(const Mesh& mesh, double by_mm);
+
 }  // namespace polyaxis::mesh

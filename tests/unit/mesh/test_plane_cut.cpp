@@ -132,5 +132,33 @@ TEST(Difference, OverlapDisjointAndContained) {
   EXPECT_TRUE(inside.value().triangles.empty());
 }
 
+TEST(Grown, MovesSmoothSurfacesByTheOffsetAndCornersAlongTheirMeanNormal) {
+  // A fine cylinder's side moves out by the offset (its radius grows by it, to the faceting).
+  const Mesh bar = solid(test::cylinder({0, 0, 0}, {0, 0, 1}, 10, 20, 96));
+  const Mesh fat = grown(bar, 0.05);
+  ASSERT_EQ(fat.vertices.size(), bar.vertices.size());
+  for (const core::Vec3& v : fat.vertices) {
+    if (v.z > 0.0 && v.z < 20.0) continue;  // no vertex lies between the caps
+    const double r = std::hypot(v.x, v.y);
+    if (r > 1.0) {
+      EXPECT_GT(r, 10.0) << r;  // the rim: out along the mean of side and cap
+    }
+  }
+  const double side = 2.0 * M_PI * 10.0 * 20.0, caps = 2.0 * M_PI * 100.0;
+  EXPECT_GT(signed_volume(fat) - signed_volume(bar), 0.5 * 0.05 * (side + caps));
+  EXPECT_LT(signed_volume(fat) - signed_volume(bar), 1.01 * 0.05 * (side + caps));
+  // A cube's corners go out along their diagonal, its faces by the offset over √3; inwards too.
+  const Mesh cube = solid(test::box({0, 0, 0}, {10, 10, 10}));
+  const Mesh big = grown(cube, 0.3), small = grown(cube, -0.3);
+  const double f = 0.3 / std::sqrt(3.0);
+  EXPECT_NEAR(signed_volume(big), std::pow(10.0 + 2.0 * f, 3), 1e-9);
+  EXPECT_NEAR(signed_volume(small), std::pow(10.0 - 2.0 * f, 3), 1e-9);
+  // Its use: a solid less a copy of itself grown a little leaves nothing, the same copy not grown
+  // leaves nothing either; one retriangulated and rounded to floats can leave slivers.
+  const auto none = difference(cube, grown(cube, 1e-3));
+  ASSERT_TRUE(none.ok());
+  EXPECT_TRUE(none.value().triangles.empty());
+}
+
 }  // namespace
 }  // namespace polyaxis::mesh
