@@ -160,10 +160,10 @@ std::string drape(const mesh::SurfaceDistance& base, const slicing::Layer& layer
     std::vector<PathPoint> kept;
     kept.reserve(path.points.size());
     for (const PathPoint& p : path.points) {
-      if (!kept.empty() && core::norm(p.position_mm - kept.back().position_mm) < kSamePointMm) {
-        kept.back().deposit = kept.back().deposit || p.deposit;
-        continue;
-      }
+      // A point's flag says whether the move into it deposits: the move into a point that falls
+      // on the one before is empty, and the one before keeps its own (a path's first point,
+      // reached with the process off, must not take its neighbour's and deposit on the way in).
+      if (!kept.empty() && core::norm(p.position_mm - kept.back().position_mm) < kSamePointMm) continue;
       kept.push_back(p);
     }
     path.points = std::move(kept);

@@ -257,47 +257,77 @@ RawMesh other_diagonals(RawMesh frustum) {
   return frustum;
 }
 
-// Fins on a flaring hub, the hub given apart as the substrate with its sides split along the other
-// diagonals, as when a hub and its impeller are exported one by one: the part less the hub is the
-// fins, each a piece of its own grown along the hub's normal under it, not one piece joined by the
-// slivers between the two tessellations. The hub stands on a shaft, the fins clear of the plate.
+// Fins on a flaring hub (R0 at z = 0 to R1 at H, SIDES sides), FINS of them 3 mm thick from 2 mm
+// inside the hub to 14 mm beyond its widest, turned TURN_DEG about Z; the hub given apart as the
+// substrate, its sides split along the other diagonals (as when a hub and its impeller are exported
+// one by one), standing on a shaft so that the fins clear the plate.
+struct FinnedHub {
+  std::string name;
+  double r0, r1, h;
+  std::uint32_t sides, fins;
+  double turn_deg = 0.0;
+  RawMesh part() const {
+    RawMesh out = frustum(r0, r1, h, sides);
+    for (std::uint32_t k = 0; k < fins; ++k) {
+      const double u = 2.0 * M_PI * (k + 0.5) / fins + turn_deg * M_PI / 180.0;
+      const Vec3 radial{std::cos(u), std::sin(u), 0.0}, side{-std::sin(u), std::cos(u), 0.0};
+      RawMesh fin = box({r0 - 2.0, -1.5, 2.0}, {r1 + 14.0, 1.5, h - 2.0});
+      for (Vec3& p : fin.points) p = radial * p.x + side * p.y + Vec3{0, 0, p.z};
+      out = mesh_union(out, fin);
+    }
+    return out;
+  }
+  RawMesh substrate() const { return mesh_union(other_diagonals(frustum(r0, r1, h, sides)), cylinder({0, 0, -30}, {0, 0, 1}, 10, 30.5, 32)); }
+};
+
+// Plans the fins onto their hub with LAYERS (--strategy decompose) in DIR and checks the plan read
+// back: every fin a region of its own along the hub's normal, grounded and clear, rs274 accepts it.
+nlohmann::json expect_fins_planned(const TempDir& dir, const FinnedHub& c, const std::string& layers) {
+  const RawMesh substrate = c.substrate();
+  write_file(dir / (c.name + ".stl"), binary_stl(c.part()));
+  write_file(dir / "hub.stl", binary_stl(substrate));
+  const auto r = run_cli("plan '" + (dir / (c.name + ".stl")).string() + "' --substrate '" + (dir / "hub.stl").string() +
+                         "' --strategy decompose --layers " + layers + " --no-html -o '" + dir.path().string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  if (r.exit_code != 0) return {};
+  const auto plan = read_json(dir / "plan.json");
+  EXPECT_EQ(plan["regions"].size(), c.fins + 1);
+  const double slope = std::atan2(c.r1 - c.r0, c.h);
+  for (std::size_t k = 1; k < plan["regions"].size(); ++k) {
+    const auto& d = plan["regions"][k]["build_direction"];
+    // Along the hub's normal: as far below the horizon as the hub flares (placed about Z only).
+    EXPECT_NEAR(std::asin(d[2].get<double>()), -slope, 2.0 * M_PI / 180.0) << "region " << k;
+    // A whole fin: at least its part outside the hub's widest section, 3 × (h − 4) × 14 mm.
+    EXPECT_GT(plan["regions"][k]["volume_mm3"].get<double>(), 3.0 * (c.h - 4.0) * 14.0) << "region " << k;
+  }
+  const RawMesh on_table = placed(substrate, plan);
+  const ReadBack rb = check_readback(dir.path(), c.name, false, &on_table);
+  EXPECT_EQ(rb.ungrounded, 0u) << rb.first_problem;
+  expect_rs274_reads(dir.path(), dir / (c.name + ".ngc"));
+  return plan;
+}
+
+// The part less the hub is the fins, each a piece of its own grown along the hub's normal under
+// it, not one piece joined by the slivers between the two tessellations.
 TEST(PlanSubstrate, FinsOnAHubGivenApartWithOtherDiagonalsAreEachAPiece) {
-  struct Case {
-    std::string name;
-    double r0, r1, h;
-    std::uint32_t sides, fins;
-  };
-  for (const Case& c : {Case{"four_fins", 16, 24, 24, 48, 4}, Case{"three_fins", 18, 22, 20, 36, 3}}) {
+  for (const FinnedHub& c : {FinnedHub{"four_fins", 16, 24, 24, 48, 4}, FinnedHub{"three_fins", 18, 22, 20, 36, 3}}) {
     SCOPED_TRACE(c.name);
-    RawMesh hub = frustum(c.r0, c.r1, c.h, c.sides), part = hub;
-    for (std::uint32_t k = 0; k < c.fins; ++k) {
-      const double u = 2.0 * M_PI * (k + 0.5) / c.fins;
-      const Vec3 out{std::cos(u), std::sin(u), 0.0}, side{-std::sin(u), std::cos(u), 0.0};
-      RawMesh fin = box({c.r0 - 2.0, -1.5, 2.0}, {c.r1 + 14.0, 1.5, c.h - 2.0});
-      for (Vec3& p : fin.points) p = out * p.x + side * p.y + Vec3{0, 0, p.z};
-      part = mesh_union(part, fin);
-    }
-    const RawMesh substrate = mesh_union(other_diagonals(hub), cylinder({0, 0, -30}, {0, 0, 1}, 10, 30.5, 32));
     TempDir dir;
-    write_file(dir / (c.name + ".stl"), binary_stl(part));
-    write_file(dir / "hub.stl", binary_stl(substrate));
-    const auto r = run_cli("plan '" + (dir / (c.name + ".stl")).string() + "' --substrate '" + (dir / "hub.stl").string() +
-                           "' --strategy decompose --layers planar --no-html -o '" + dir.path().string() + "'");
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    const auto plan = read_json(dir / "plan.json");
-    ASSERT_EQ(plan["regions"].size(), c.fins + 1);
-    const double slope = std::atan2(c.r1 - c.r0, c.h);
-    for (std::size_t k = 1; k < plan["regions"].size(); ++k) {
-      const auto& d = plan["regions"][k]["build_direction"];
-      // Along the hub's normal: as far below the horizon as the hub flares (placed about Z only).
-      EXPECT_NEAR(std::asin(d[2].get<double>()), -slope, 2.0 * M_PI / 180.0) << "region " << k;
-      // A whole fin: at least its part outside the hub's widest section, 3 × (h − 4) × 14 mm.
-      EXPECT_GT(plan["regions"][k]["volume_mm3"].get<double>(), 3.0 * (c.h - 4.0) * 14.0) << "region " << k;
-    }
-    const RawMesh on_table = placed(substrate, plan);
-    const ReadBack rb = check_readback(dir.path(), c.name, false, &on_table);
-    EXPECT_EQ(rb.ungrounded, 0u) << rb.first_problem;
-    expect_rs274_reads(dir.path(), dir / (c.name + ".ngc"));
+    expect_fins_planned(dir, c, "planar");
+  }
+}
+
+// The same on conformal layers from the hub, the torch along the hub's normal: read back, no bead
+// is laid off the part (a path whose first two points fell together once took the second's
+// process-on flag, so the plunge from the approach point deposited 5 mm out in the air and the
+// head struck that bead), and each fin's every layer is conformal.
+TEST(PlanSubstrate, FinsOnAHubOnConformalLayersReadBackClean) {
+  for (const FinnedHub& c : {FinnedHub{"six_fins", 18, 26, 34, 90, 6, 10.0}, FinnedHub{"five_fins", 16, 22, 28, 64, 5, -7.0}}) {
+    SCOPED_TRACE(c.name);
+    TempDir dir;
+    const auto plan = expect_fins_planned(dir, c, "conformal");
+    if (plan.is_null()) continue;
+    for (std::size_t k = 1; k < plan["regions"].size(); ++k) EXPECT_EQ(plan["regions"][k]["layers"]["strategy"], "conformal") << "region " << k;
   }
 }
 
