@@ -15,6 +15,7 @@
 #include <numbers>
 
 #include "polyaxis/mesh/plane_cut.h"
+#include "polyaxis/mesh/self_intersections.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/self_intersections.h"
 #include "polyaxis/post/traori.h"
@@ -284,7 +285,10 @@ core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const 
   // The substrate grown by a skin: where the part's surface and the substrate's are two
   // tessellations of one surface (a hub exported apart from its impeller), a sliver of the part
   // would be left over the substrate and join every piece into one.
-  const mesh::Mesh skin = mesh::grown(*o.substrate, kSubstrateSkinMm);
+  // A substrate with a gap or a feature thinner than twice the skin folds when grown (its faces
+  // cross, and the difference would be garbage): then the substrate as given.
+  mesh::Mesh skin = mesh::grown(*o.substrate, kSubstrateSkinMm);
+  if (!mesh::self_intersecting_faces(skin).empty()) skin = *o.substrate;
   auto rest = mesh::difference(part.mesh, skin);
   if (!rest) return core::make_error(rest.error().code, "--substrate: the part less the substrate: " + rest.error().message);
   if (rest.value().triangles.empty()) {

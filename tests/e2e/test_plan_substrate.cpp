@@ -257,6 +257,29 @@ RawMesh other_diagonals(RawMesh frustum) {
   return frustum;
 }
 
+// A substrate of two blocks closer than twice the skin: grown, they would cross and the
+// difference would take the whole part (exit 4, "nothing to build"); the substrate is then taken
+// as given, and the boss standing on both is deposited.
+TEST(PlanSubstrate, ASubstrateWhoseGrownSkinWouldFoldIsTakenAsGiven) {
+  for (const double gap : {0.01, 0.03}) {
+    SCOPED_TRACE(gap);
+    TempDir dir;
+    const RawMesh part = mesh_union(box({0, 0, 0}, {20 + gap, 20, 10}), cylinder({10 + 0.5 * gap, 10, 5}, {0, 0, 1}, 5, 20, 40));
+    const RawMesh substrate = join(box({0, 0, 0}, {10, 20, 10}), box({10 + gap, 0, 0}, {20 + gap, 20, 10}));
+    write_file(dir / "boss.stl", binary_stl(part));
+    write_file(dir / "blocks.stl", binary_stl(substrate));
+    const auto r = run_cli("plan '" + (dir / "boss.stl").string() + "' --substrate '" + (dir / "blocks.stl").string() + "' --no-html -o '" +
+                           dir.path().string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto plan = read_json(dir / "plan.json");
+    double deposited = 0.0;
+    for (std::size_t k = 1; k < plan["regions"].size(); ++k) deposited += plan["regions"][k]["volume_mm3"].get<double>();
+    EXPECT_GT(deposited, 0.9 * M_PI * 25.0 * 15.0);  // the boss above the blocks
+    const RawMesh on_table = placed(substrate, plan);
+    check_readback(dir.path(), "boss", false, &on_table);
+  }
+}
+
 // Fins on a flaring hub (R0 at z = 0 to R1 at H, SIDES sides), FINS of them 3 mm thick from 2 mm
 // inside the hub to 14 mm beyond its widest, turned TURN_DEG about Z; the hub given apart as the
 // substrate, its sides split along the other diagonals (as when a hub and its impeller are exported
