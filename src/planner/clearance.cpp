@@ -15,6 +15,8 @@ constexpr double kTravelStepMm = 1.0;
 constexpr double kTravelStepDeg = 2.0;
 // Distances tried out along the axes before crossing (mm), before the sphere.
 constexpr double kLiftsMm[] = {10.0, 25.0, 50.0, 100.0};
+// A transit's leg out of or into a tip turns its axis up in steps of this (degrees) until clear.
+constexpr double kLegRaiseStepDeg = 5.0;
 constexpr double kPi = 3.14159265358979323846;
 // A move this short, turning this little, is cleared by one check with its length and turn as the
 // margin (a wider one would visit most of the deposit).
@@ -222,6 +224,38 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
   plan.tilts_eased += eased - eased_before;
 }
 
+namespace {
+
+// The axis to leave P along to the sphere (CENTRE, RADIUS), or to come in along to P, for the
+// transit: A itself when that leg keeps the head clear of the plate, the table and the deposit,
+// else A turned up towards +Z by the least of kLegRaiseStepDeg, 2·kLegRaiseStepDeg, … up to
+// toolpath::kMaxTiltRad whose leg, and whose turn in place at P from A, are clear; A when none is.
+// (An axis below the horizon leaving a tip low on the part runs the head down into the table on
+// the way out: a blade on an impeller's flaring hub, built along its normal 16° below the horizon.)
+Vec3 leg_axis(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
+              double margin_mm, Vec3 p, Vec3 a, Vec3 centre, double radius) {
+  const Vec3 up{0, 0, 1};
+  const double steps = std::floor(toolpath::kMaxTiltRad * 180.0 / kPi / kLegRaiseStepDeg + 1e-9);
+  for (double k = 0.0; k <= steps; k += 1.0) {
+    const double turn = k * kLegRaiseStepDeg * kPi / 180.0, from_up = turn_rad(a, up);
+    if (k > 0.0 && turn > from_up) break;  // past vertical
+    Vec3 axis = a;
+    if (k > 0.0) {
+      const Vec3 side = core::normalized(up - a * core::dot(a, up));
+      if (!(core::norm(side) > 0.5)) break;
+      axis = core::normalized(a * std::cos(turn) + side * std::sin(turn));
+    }
+    const Vec3 q = ray_exit(p, axis, centre, radius);
+    if (clear_move(model, deposit, before, clearance_mm, margin_mm, p, axis, q, axis) &&
+        (k == 0.0 || clear_move(model, deposit, before, clearance_mm, margin_mm, p, a, p, axis))) {
+      return axis;
+    }
+  }
+  return a;
+}
+
+}  // namespace
+
 std::vector<TransitPoint> clear_travel(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before,
                                        double clearance_mm, double margin_mm, Vec3 from, Vec3 a, Vec3 to, Vec3 b, Vec3 centre,
                                        double radius) {
@@ -236,7 +270,15 @@ std::vector<TransitPoint> clear_travel(const machine::BuildModel& model, const v
       return {{p, a}, {q, b}};
     }
   }
-  return transit(from, a, to, b, centre, radius);
+  // Out and in along axes that keep the head clear on the legs, turned in place at either end.
+  const Vec3 out = leg_axis(model, deposit, before, clearance_mm, margin_mm, from, a, centre, radius);
+  const Vec3 in = leg_axis(model, deposit, before, clearance_mm, margin_mm, to, b, centre, radius);
+  std::vector<TransitPoint> path;
+  if (core::norm(out - a) > 0.0) path.push_back({from, out});  // a itself when not turned
+  const std::vector<TransitPoint> over = transit(from, out, to, in, centre, radius);
+  path.insert(path.end(), over.begin(), over.end());
+  if (core::norm(in - b) > 0.0) path.push_back({to, in});
+  return path;
 }
 
 std::vector<TransitPoint> layer_travel(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before,

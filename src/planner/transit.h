@@ -27,10 +27,16 @@ struct TransitPoint {
 //     (X − CENTRE)·A >= 0, so the ray from it along A stays outside the sphere);
 //  3. along the great circle from that pole to the pole of B, the axis the outward radius (a
 //     reversal, B = −A, goes through a pole perpendicular to A, the one nearest to the XY plane
-//     when A is vertical);
+//     when A is vertical); where that circle would go lower than both poles (two axes below the
+//     horizon at distant azimuths), with their latitude and azimuth interpolated evenly instead,
+//     which stays between the poles' latitudes;
 //  4. along the sphere to QB (where the ray from TO along B leaves it), axis B; then TO is
 //     approached along −B.
 // Steps are at most kTransitStepDeg. A and B need not be unit.
 std::vector<TransitPoint> transit(Vec3 from, Vec3 a, Vec3 to, Vec3 b, Vec3 centre, double radius);
+
+// Where the ray P + s·D (s >= 0, D unit) leaves the sphere (CENTRE, RADIUS); P itself when it is
+// already outside.
+Vec3 ray_exit(Vec3 p, Vec3 d, Vec3 centre, double radius);
 
 }  // namespace polyaxis::planner

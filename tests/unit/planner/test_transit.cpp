@@ -65,5 +65,36 @@ TEST(Transit, ObliqueDirectionsAndOffCentreEnds) {
   check_transit({0, 0, -10}, {0, 0.6, -0.8}, {0, 0, -10}, {0, 0.6, -0.8});  // same axis: out and back
 }
 
+// Two axes 16° below the horizon, 135° and 170° apart in azimuth (the blades of an impeller on
+// its hub, built one after another out of turn): the great circle between them would bow down to
+// 37° and 70° below it, under the plate; the transit keeps between the two latitudes.
+TEST(Transit, AxesBelowTheHorizonKeepTheirLatitudeBetweenThem) {
+  const double lat = -16.0 * kPi / 180.0;
+  for (const double apart_deg : {135.0, 170.0, 45.0}) {
+    SCOPED_TRACE(apart_deg);
+    const double half = 0.5 * apart_deg * kPi / 180.0;
+    const Vec3 a{std::cos(lat) * std::cos(-half), std::cos(lat) * std::sin(-half), std::sin(lat)};
+    const Vec3 b{std::cos(lat) * std::cos(half), std::cos(lat) * std::sin(half), std::sin(lat)};
+    const Vec3 c{1, 2, 3};
+    check_transit(c + a * 20.0, a, c + b * 20.0, b);
+    const auto points = transit(c + a * 20.0, a, c + b * 20.0, b, c, 50.0);
+    double lowest = 1.0;
+    for (const TransitPoint& t : points) lowest = std::min(lowest, core::normalized(t.tip - c).z);
+    EXPECT_GE(lowest, std::sin(lat) - 1e-9);
+    // The great circle's middle, which the transit no longer takes, is lower (but for 45°, which
+    // dips by under a degree and is taken as it was).
+    const Vec3 mid = core::normalized(a + b);
+    if (apart_deg > 90.0) {
+      EXPECT_LT(mid.z, std::sin(lat) - 0.2);
+    }
+  }
+  // Above the horizon the great circle bows upwards and is kept.
+  const Vec3 a = core::normalized(Vec3{1, 0, 0.5}), b = core::normalized(Vec3{-1, 0.1, 0.5});
+  const auto points = transit(a * 20.0, a, b * 20.0, b, {0, 0, 0}, 50.0);
+  double highest = -1.0;
+  for (const TransitPoint& t : points) highest = std::max(highest, t.axis.z);
+  EXPECT_GT(highest, 0.99);
+}
+
 }  // namespace
 }  // namespace polyaxis::planner
