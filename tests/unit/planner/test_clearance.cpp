@@ -68,6 +68,40 @@ TEST(LayerTravel, AStraightTravelThroughTheWallGoesOverItAndOneBesideItStaysStra
   }
 }
 
+// Two tips 65 mm over the plate, 40 mm out from the middle, built along axes 16° below the
+// horizon 135° apart in azimuth (blades on a flaring hub): leaving along the axis runs the head's
+// cylinder down into the table on the way to the transit sphere, so the legs out and in turn up
+// until clear; every sample of the first two moves and the last two keeps the head over it.
+TEST(ClearTravel, LegsAlongAxesBelowTheHorizonTurnUpUntilTheHeadClearsTheTable) {
+  const machine::MachineConfig m = test::example_machine("ded5_ac");
+  const process::ProcessConfig p = test::default_process();
+  const machine::BuildModel model = machine::make_build_model(m, p, -30, -30, 30, 30);
+  const verify::DepositCheck deposit(model, {}, kBead);
+  const double lat = -16.0 * kDeg;
+  for (const double apart_deg : {135.0, 60.0}) {
+    SCOPED_TRACE(apart_deg);
+    const double h = 0.5 * apart_deg * kDeg;
+    const Vec3 a{std::cos(lat) * std::cos(-h), std::cos(lat) * std::sin(-h), std::sin(lat)};
+    const Vec3 b{std::cos(lat) * std::cos(h), std::cos(lat) * std::sin(h), std::sin(lat)};
+    const Vec3 from = Vec3{40 * std::cos(-h), 40 * std::sin(-h), 65}, to = Vec3{40 * std::cos(h), 40 * std::sin(h), 65};
+    ASSERT_GT(machine::head_clearance_mm(model, from, a), 0.5);  // the ends themselves are clear
+    ASSERT_GT(machine::head_clearance_mm(model, to, b), 0.5);
+    const auto via = clear_travel(model, deposit, 0, 0.5, 0.5 * kBead, from, a, to, b, {0, 0, 40}, 90.0);
+    ASSERT_GE(via.size(), 2u);
+    std::vector<TransitPoint> path{{from, a}};
+    path.insert(path.end(), via.begin(), via.end());
+    path.push_back({to, b});
+    for (const std::size_t k : {std::size_t{0}, std::size_t{1}, path.size() - 3, path.size() - 2}) {
+      for (int i = 0; i <= 50; ++i) {
+        const double u = i / 50.0;
+        const Vec3 tip = path[k].tip + (path[k + 1].tip - path[k].tip) * u;
+        const Vec3 axis = core::normalized(path[k].axis * (1.0 - u) + path[k + 1].axis * u);
+        EXPECT_GE(machine::head_clearance_mm(model, tip, axis), 0.5 - 1e-6) << "move " << k << " at " << u;
+      }
+    }
+  }
+}
+
 // A mushroom: a stem (R_STEM) under a cap spreading out at OVERHANG_DEG from vertical, both
 // revolved; the cap's perimeters are laid with the torch tilted over the overhang and its fill
 // along the layer's normal, so the head turns back from the tilt on the fill's first move.
