@@ -15,6 +15,8 @@ constexpr double kTravelStepMm = 1.0;
 constexpr double kTravelStepDeg = 2.0;
 // Distances tried out along the axes before crossing (mm), before the sphere.
 constexpr double kLiftsMm[] = {10.0, 25.0, 50.0, 100.0};
+// A move turning the axis by more than this (degrees) is not checked as one: the transit takes it.
+constexpr double kMaxMoveTurnDeg = 120.0;
 // A transit's leg out of or into a tip turns its axis up in steps of this (degrees) until clear.
 constexpr double kLegRaiseStepDeg = 5.0;
 constexpr double kPi = 3.14159265358979323846;
@@ -33,15 +35,18 @@ double turn_rad(Vec3 a, Vec3 b) { return std::acos(std::clamp(core::dot(core::no
 
 // True when CLEAR holds at the samples K = FIRST … PIECES − 1 + LAST_TOO of the move from (P, A)
 // to (Q, B) in PIECES steps at most kTravelStepMm and kTravelStepDeg apart: the tip straight, the
-// axis along the great circle (false where opposite axes leave no such circle).
+// axis along the great circle evenly in angle with the same fraction, as the post writes the move
+// (axis_between; an even fraction of the chord instead ran ahead of the program's axis, and a head
+// pointing below the horizon was checked up to 0.7 mm higher over the table than the program put
+// it). False for a turn of more than kMaxMoveTurnDeg: such a move goes over the sphere instead.
 template <typename Clear>
 bool clear_samples(Vec3 p, Vec3 a, Vec3 q, Vec3 b, int first, bool last_too, Clear clear) {
   const double turn = turn_rad(a, b) * 180.0 / kPi;
+  if (turn > kMaxMoveTurnDeg) return false;
   const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(core::norm(q - p) / kTravelStepMm, turn / kTravelStepDeg))));
   for (int k = first; k < pieces + (last_too ? 1 : 0); ++k) {
     const double u = static_cast<double>(k) / pieces;
-    const Vec3 axis = core::normalized(a * (1.0 - u) + b * u);
-    if (!(core::norm(axis) > 0.5) || !clear(p + (q - p) * u, axis)) return false;
+    if (!clear(p + (q - p) * u, axis_between(a, b, u))) return false;
   }
   return true;
 }

@@ -284,9 +284,9 @@ core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const 
                                           const process::ProcessConfig& process, const PlanPartOptions& o, bool per_piece) {
   // The substrate grown by a skin: where the part's surface and the substrate's are two
   // tessellations of one surface (a hub exported apart from its impeller), a sliver of the part
-  // would be left over the substrate and join every piece into one.
-  // A substrate with a gap or a feature thinner than twice the skin folds when grown (its faces
-  // cross, and the difference would be garbage): then the substrate as given.
+  // would be left over the substrate and join every piece into one. A substrate with a gap or a
+  // feature thinner than twice the skin folds when grown (its faces cross, and the difference
+  // would be garbage): then the substrate as given.
   mesh::Mesh skin = mesh::grown(*o.substrate, kSubstrateSkinMm);
   if (!mesh::self_intersecting_faces(skin).empty()) skin = *o.substrate;
   auto rest = mesh::difference(part.mesh, skin);

@@ -37,6 +37,8 @@ Vec3 slerp(Vec3 a, Vec3 b, double u) {
 
 }  // namespace
 
+Vec3 axis_between(Vec3 a, Vec3 b, double u) { return slerp(core::normalized(a), core::normalized(b), u); }
+
 double max_tilt_on_arc_rad(Vec3 a, Vec3 b) {
   a = core::normalized(a), b = core::normalized(b);
   const double w = angle(a, b);

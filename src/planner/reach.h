@@ -42,6 +42,11 @@ core::Status check_region_reach(const std::vector<PlanRegion>& placed, const mac
 bool guard_axis(const machine::MachineConfig& machine, const machine::BuildModel& model, double reach_rad, double clearance_mm,
                 double lift_mm, Vec3 tip, Vec3 d, Vec3& axis);
 
+// The unit axis at fraction U of the great circle from A to B (unit), evenly in angle: as the
+// post interpolates the tool axis between two program points (machine/segment.h), the tip moving
+// straight with the same fraction. Opposite axes turn through a perpendicular.
+Vec3 axis_between(Vec3 a, Vec3 b, double u);
+
 // True when the head keeps CLEARANCE_MM above the plate and the table all along a move from
 // (TIP_FROM, FROM) to (TIP_TO, TO): the tip straight, the axis on the great circle, sampled every
 // 2° of turn and every millimetre (and at both ends). Both ends clear do not make the move clear

@@ -50,7 +50,7 @@ void arc(Vec3 u, Vec3 v, Vec3 centre, double radius, Axis axis, std::vector<Tran
   }
 }
 
-// The latitude (radians above the XY plane) and azimuth of the unit vector D.
+// The latitude of the unit vector D: radians above the XY plane.
 double latitude(Vec3 d) { return std::asin(std::clamp(d.z, -1.0, 1.0)); }
 
 // Points from direction U to direction V (unit, U excluded, V included), each also the tool axis:
