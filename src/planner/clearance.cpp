@@ -36,7 +36,7 @@ double turn_rad(Vec3 a, Vec3 b) { return std::acos(std::clamp(core::dot(core::no
 // True when CLEAR holds at the samples K = FIRST … PIECES − 1 + LAST_TOO of the move from (P, A)
 // to (Q, B) in PIECES steps at most kTravelStepMm and kTravelStepDeg apart: the tip straight, the
 // axis along the great circle evenly in angle with the same fraction, as the post writes the move
-// (axis_between; an even fraction of the chord instead ran ahead of the program's axis, and a head
+// (axis_between; an even fraction of the chord instead ran behind the program's axis, and a head
 // pointing below the horizon was checked up to 0.7 mm higher over the table than the program put
 // it). False for a turn of more than kMaxMoveTurnDeg: such a move goes over the sphere instead.
 template <typename Clear>
