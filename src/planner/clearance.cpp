@@ -240,16 +240,11 @@ namespace {
 Vec3 leg_axis(const machine::BuildModel& model, const verify::DepositCheck& deposit, std::size_t before, double clearance_mm,
               double margin_mm, Vec3 p, Vec3 a, Vec3 centre, double radius) {
   const Vec3 up{0, 0, 1};
-  const double steps = std::floor(toolpath::kMaxTiltRad * 180.0 / kPi / kLegRaiseStepDeg + 1e-9);
+  const double from_up = turn_rad(a, up), steps = std::floor(toolpath::kMaxTiltRad * 180.0 / kPi / kLegRaiseStepDeg + 1e-9);
   for (double k = 0.0; k <= steps; k += 1.0) {
-    const double turn = k * kLegRaiseStepDeg * kPi / 180.0, from_up = turn_rad(a, up);
+    const double turn = k * kLegRaiseStepDeg * kPi / 180.0;
     if (k > 0.0 && turn > from_up) break;  // past vertical
-    Vec3 axis = a;
-    if (k > 0.0) {
-      const Vec3 side = core::normalized(up - a * core::dot(a, up));
-      if (!(core::norm(side) > 0.5)) break;
-      axis = core::normalized(a * std::cos(turn) + side * std::sin(turn));
-    }
+    const Vec3 axis = k == 0.0 ? a : axis_between(a, up, turn / from_up);
     const Vec3 q = ray_exit(p, axis, centre, radius);
     if (clear_move(model, deposit, before, clearance_mm, margin_mm, p, axis, q, axis) &&
         (k == 0.0 || clear_move(model, deposit, before, clearance_mm, margin_mm, p, a, p, axis))) {

@@ -276,33 +276,46 @@ PlanRegion on_substrate_region(std::uint32_t id, mesh::Mesh piece, Vec3 d) {
   return r;
 }
 
-// The part less the substrate, deposited onto it (--substrate): along O.direction as one region,
-// or (PER_PIECE) each connected piece as a region of its own along the substrate's normal under
-// its base, turned towards O.direction into the tilt's reach (kInfeasible under kAuto when that
-// turns none: the one direction again).
-core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                          const process::ProcessConfig& process, const PlanPartOptions& o, bool per_piece) {
-  // The substrate grown by a skin: where the part's surface and the substrate's are two
-  // tessellations of one surface (a hub exported apart from its impeller), a sliver of the part
-  // would be left over the substrate and join every piece into one. A substrate with a gap or a
-  // feature thinner than twice the skin folds when grown (its faces cross, and the difference
-  // would be garbage): then the substrate as given.
-  mesh::Mesh skin = mesh::grown(*o.substrate, kSubstrateSkinMm);
-  if (!mesh::self_intersecting_faces(skin).empty()) skin = *o.substrate;
-  auto rest = mesh::difference(part.mesh, skin);
+// The part less the substrate (--substrate), and the surface its pieces stand on.
+struct OnSubstrate {
+  mesh::Mesh rest;  // what is deposited
+  mesh::Mesh skin;  // the substrate grown by kSubstrateSkinMm (or as given, where that would fold)
+};
+
+// The part less O.substrate. The substrate grown by a skin: where the part's surface and the
+// substrate's are two tessellations of one surface (a hub exported apart from its impeller), a
+// sliver of the part would be left over the substrate and join every piece into one. A substrate
+// with a gap or a feature thinner than twice the skin folds when grown (its faces cross, and the
+// difference would be garbage): then the substrate as given.
+core::Result<OnSubstrate> part_less_substrate(const mesh::RepairedMesh& part, const PlanPartOptions& o) {
+  OnSubstrate out;
+  out.skin = mesh::grown(*o.substrate, kSubstrateSkinMm);
+  if (!mesh::self_intersecting_faces(out.skin).empty()) out.skin = *o.substrate;
+  auto rest = mesh::difference(part.mesh, out.skin);
   if (!rest) return core::make_error(rest.error().code, "--substrate: the part less the substrate: " + rest.error().message);
   if (rest.value().triangles.empty()) {
     return core::make_error(core::ErrorCode::kInfeasible, "--substrate: nothing to build: the substrate holds the whole part");
   }
+  out.rest = std::move(rest.value());
+  return out;
+}
+
+// ON.rest, the part less the substrate, deposited onto it (--substrate): along O.direction as one region,
+// or (PER_PIECE) each connected piece as a region of its own along the substrate's normal under
+// its base, turned towards O.direction into the tilt's reach (kInfeasible under kAuto when that
+// turns none: the one direction again).
+core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                          const process::ProcessConfig& process, const PlanPartOptions& o, const OnSubstrate& on,
+                                          bool per_piece) {
   const Vec3 up = core::normalized(o.direction);
   std::vector<PlanRegion> regions{substrate_region(*o.substrate, up)};
   if (!per_piece) {
-    regions.push_back(on_substrate_region(1, std::move(rest.value()), up));
+    regions.push_back(on_substrate_region(1, on.rest, up));
   } else {
     const double reach = detail::direction_reach_rad(machine, process);
     bool turned = false;
-    for (mesh::Mesh& piece : connected_pieces(rest.value())) {
-      Vec3 d = base_normal(piece, skin).value_or(up);
+    for (mesh::Mesh& piece : connected_pieces(on.rest)) {
+      Vec3 d = base_normal(piece, on.skin).value_or(up);
       const double angle = std::acos(std::clamp(core::dot(d, up), -1.0, 1.0));
       if (angle > reach) d = turned_towards(d, up, (angle - reach) * 180.0 / std::numbers::pi);
       turned = turned || core::norm(d - up) > 1e-9;
@@ -455,16 +468,18 @@ core::Result<Candidate> choose_on_substrate(const mesh::RepairedMesh& part, cons
                                             const process::ProcessConfig& process, const PlanPartOptions& o, std::string& why) {
   const std::string one = "the part less the substrate, along the given direction, onto the substrate (--substrate)";
   const std::string pieces = "the part less the substrate, each piece along the substrate's normal under it (--substrate)";
+  const auto on = part_less_substrate(part, o);
+  if (!on) return on.error();
   if (o.strategy != Strategy::kAuto) {
     why = o.strategy == Strategy::kSingle ? one : pieces;
-    return plan_on_substrate(part, machine, process, o, o.strategy == Strategy::kDecompose);
+    return plan_on_substrate(part, machine, process, o, on.value(), o.strategy == Strategy::kDecompose);
   }
-  auto single = plan_on_substrate(part, machine, process, o, false);
+  auto single = plan_on_substrate(part, machine, process, o, on.value(), false);
   if (single && single.value().plan.unsupported_area_mm2 == 0.0) {
     why = one;
     return single;
   }
-  auto turned = plan_on_substrate(part, machine, process, o, true);
+  auto turned = plan_on_substrate(part, machine, process, o, on.value(), true);
   if (!turned || (single && !better(turned.value().plan, single.value().plan))) {
     why = single ? fmt::format("{}{}", one, turned ? "; the pieces along the substrate's normal do no better" : "") : one;
     return single;
@@ -1000,7 +1015,9 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // On a substrate, one direction whose program cannot be written, or read back starts in
     // mid-air or strikes something: each piece along the substrate's normal under it, when that
     // reads back clean.
-    if (auto clean = clean_program(plan_on_substrate(part, machine, process, options, true), Strategy::kDecompose, machine, process, options)) {
+    const auto on = part_less_substrate(part, options);
+    auto pieces = on ? plan_on_substrate(part, machine, process, options, on.value(), true) : core::Result<Candidate>(on.error());
+    if (auto clean = clean_program(std::move(pieces), Strategy::kDecompose, machine, process, options)) {
       PlanPartResult& alt = *clean;
       const std::string why = !made     ? fmt::format("along the given direction the program cannot be written: {}", made.error().message)
                               : mid_air ? std::string("along the given direction the deposit starts in mid-air")
