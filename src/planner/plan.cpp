@@ -629,10 +629,12 @@ core::Status add_region(Plan& plan, PlanRegion& region, const std::vector<PlanRe
   tp.threads = options.threads;
   tp.region = region.id;
   tp.max_axis_turn_deg_per_mm = steady_turn_deg_per_mm(machine, process);
-  // Gap fill in the first layer only where it stands upright on the plate's top (Z = 0 placed).
+  // Gap fill in the first layer only where it stands upright on the plate's top (Z = 0 placed), or
+  // lies on a prebuilt part's surface (conformal layers: their first level is on it everywhere).
   if (!layers.value().layers.empty()) {
     const slicing::Layer& first = layers.value().layers.front();
-    tp.gap_fill_first_layer = first.frame.d.z > 1.0 - kUprightCos && std::abs(first.height_mm - first.below_mm) <= kOnPlateMm;
+    tp.gap_fill_first_layer = layers.value().conformal_base != nullptr ||
+                              (first.frame.d.z > 1.0 - kUprightCos && std::abs(first.height_mm - first.below_mm) <= kOnPlateMm);
   }
   auto paths = toolpath::make_toolpaths(region.mesh, layers.value(), tp);
   if (!paths) return paths.error();

@@ -72,6 +72,24 @@ double unsupported_area(const std::vector<geom2d::Polygon>& below, double t, con
   return total;
 }
 
+// Conformal LAYER's contour carried BY_MM down the distance's gradient (each point less its axis
+// times BY_MM: the gradient's lines are straight), seen along the layer's d in its frame's (u, v).
+// Unlike the footprint on the base, it does not fold where the base ends (a rim, whose gradient
+// lines fan out from one edge and would all land on it).
+std::vector<geom2d::Polygon> lowered(const slicing::Layer& layer, double by_mm) {
+  const slicing::ConformalLayer& c = *layer.conformal;
+  std::vector<geom2d::Ring> rings;
+  for (std::size_t r = 0; r < c.contours.size() && r < c.axes.size(); ++r) {
+    geom2d::Ring ring;
+    for (std::size_t i = 0; i < c.contours[r].size() && i < c.axes[r].size(); ++i) {
+      const Vec3 q = c.contours[r][i] - c.axes[r][i] * by_mm - layer.frame.origin;
+      ring.push_back({geom2d::to_units(core::dot(q, layer.frame.u)), geom2d::to_units(core::dot(q, layer.frame.v))});
+    }
+    rings.push_back(std::move(ring));
+  }
+  return geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
+}
+
 // The regions built before a region, sectioned along its direction (contexts made on first use, for
 // one region at a time).
 class BuiltBefore {
@@ -174,14 +192,16 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
     }
     std::vector<geom2d::Polygon> pieces;
     if (ls[k].conformal) {
-      // Conformal layers: the footprints on the base (slicing::ConformalLayer); the first stands on
-      // the base, every point of it its level from the base along the gradient.
+      // Conformal layers: the first stands on the base, every point of it its level from the base
+      // along the gradient. Each later one is carried down the gradient onto the level of the one
+      // below (lowered()) and compared there with that layer's section, both seen along d.
       if (first) continue;
       const slicing::Layer& under = ls[below_k];
-      slicing::Layer foot = ls[k];
-      foot.polygons = foot.conformal->footprint;
-      const double area = unsupported_area(under.conformal ? under.conformal->footprint : under.polygons, ls[k].thickness_range().first, foot,
-                                           toolpath::LayerToolpaths{}, alpha, bead, max_step, pieces);
+      slicing::Layer down = ls[k];
+      const bool carried = under.conformal && !down.conformal->axes.empty();
+      down.polygons = carried ? lowered(down, down.conformal->level_mm - under.conformal->level_mm) : down.conformal->footprint;
+      const std::vector<geom2d::Polygon>& held = carried ? under.polygons : (under.conformal ? under.conformal->footprint : under.polygons);
+      const double area = unsupported_area(held, ls[k].thickness_range().first, down, toolpath::LayerToolpaths{}, alpha, bead, max_step, pieces);
       if (area >= kUnsupportedNoiseMm2) r.unsupported_area_mm2 = area, r.unsupported = std::move(pieces);
       plan.unsupported_area_mm2 += r.unsupported_area_mm2;
       continue;

@@ -106,18 +106,21 @@ std::string lift_layer(const mesh::SurfaceDistance& base, const Frame& plane, do
   std::int64_t u0 = INT64_MAX, u1 = INT64_MIN, v0 = INT64_MAX, v1 = INT64_MIN;
   std::vector<geom2d::Ring> feet;
   for (const geom2d::Ring& ring : rings) {
-    std::vector<Vec3> lifted;
+    std::vector<Vec3> lifted, gradients;
     lifted.reserve(ring.size());
+    gradients.reserve(ring.size());
     geom2d::Ring foot;
     for (const geom2d::Point& q : ring) {
       u0 = std::min(u0, q.x), u1 = std::max(u1, q.x), v0 = std::min(v0, q.y), v1 = std::max(v1, q.y);
       const Vec3 p = plane.to_world(geom2d::to_mm(q.x), geom2d::to_mm(q.y));
       if (!take(p)) return fold(p);
       lifted.push_back(p + d * (s - core::dot(p, d)));
+      gradients.push_back(axis);
       const Vec3 f = lifted.back() - axis * c.level_mm - plane.origin;
       foot.push_back({geom2d::to_units(core::dot(f, plane.u)), geom2d::to_units(core::dot(f, plane.v))});
     }
     c.contours.push_back(std::move(lifted));
+    c.axes.push_back(std::move(gradients));
     feet.push_back(std::move(foot));
   }
   c.footprint = geom2d::union_rings(feet, geom2d::FillRule::kNonZero);

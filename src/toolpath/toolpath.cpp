@@ -168,6 +168,7 @@ class LayerPlanner {
       add_rings(ring, PathKind::kPerimeter, k, k == 0, true, groups.back());
     }
     if (!gap.empty()) groups.push_back(std::move(gap));
+    if (std::vector<Candidate> between = gaps_between_perimeters(island, thin); !between.empty()) groups.push_back(std::move(between));
     if (o_.fill == ToolpathOptions::kZigzag) {
       // The innermost perimeter's bead edge: lines s/2 inside it sit a full spacing from it.
       const std::vector<Polygon> region = geom2d::offset(island, -(w / 2.0 + n * s - s / 2.0));
@@ -207,18 +208,50 @@ class LayerPlanner {
   // not cover, or all of it when no perimeter fits: each laid as one bead along its middle (gap
   // fill, as open fill paths), and what no bead covers reported as thin.
   std::vector<Candidate> gap_fill(const Polygon& polygon, const std::vector<Polygon>& first, std::vector<ThinRegion>& thin) const {
+    const double w = o_.bead_width_mm;
+    if (first.empty()) return lay_middles({polygon}, fmt::format("island narrower than a bead ({} mm): no perimeter fits", w), thin);
+    return lay_middles(uncovered({polygon}, first), fmt::format("feature narrower than a bead ({} mm): not deposited", w), thin);
+  }
+
+  // The pieces of AREA (at least kThinMinAreaBeads2 bead widths squared) that the beads along
+  // PATHS (polygons' boundaries, each bead half a bead to either side) leave bare.
+  std::vector<Polygon> uncovered(const std::vector<Polygon>& area, const std::vector<Polygon>& paths) const {
     const double w = o_.bead_width_mm, min_area = kThinMinAreaBeads2 * w * w;
-    std::vector<Polygon> pieces;
-    std::string what;
-    if (first.empty()) {
-      pieces = {polygon}, what = fmt::format("island narrower than a bead ({} mm): no perimeter fits", w);
-    } else {
-      what = fmt::format("feature narrower than a bead ({} mm): not deposited", w);
-      const auto covered = geom2d::offset(first, w / 2.0 + kThinSlackMm);
-      for (Polygon& piece : geom2d::difference_rings(geom2d::rings_of({polygon}), geom2d::rings_of(covered))) {
-        if (geom2d::area_mm2(piece) >= min_area) pieces.push_back(std::move(piece));
-      }
+    const auto covered = geom2d::offset(paths, w / 2.0 + kThinSlackMm);
+    std::vector<Polygon> out;
+    for (Polygon& piece : geom2d::difference_rings(geom2d::rings_of(area), geom2d::rings_of(covered))) {
+      if (geom2d::area_mm2(piece) >= min_area) out.push_back(std::move(piece));
     }
+    return out;
+  }
+
+  // Gap fill between perimeters: where perimeter K cannot follow perimeter K − 1 all the way (a
+  // wall between 2K and 2K + 2 beads thick, a strip's end), the area inside perimeter K − 1's
+  // bead that perimeter K's bead does not reach, each piece at least kGapFillMinWidthBeads wide
+  // one bead along its middle as gap_fill's. The fill region starts inside the last perimeter and
+  // lays its own narrow pieces.
+  std::vector<Candidate> gaps_between_perimeters(const std::vector<Polygon>& island, std::vector<ThinRegion>& thin) const {
+    const double w = o_.bead_width_mm, s = spacing_mm();
+    std::vector<Candidate> out;
+    for (int k = 1; k < o_.perimeters; ++k) {
+      const std::vector<Polygon> inside = geom2d::offset(island, -(w + (k - 1) * s));  // perimeter K − 1's bead's inner edge
+      if (inside.empty()) break;
+      const std::vector<Polygon> next = geom2d::offset(island, -(w / 2.0 + k * s));
+      // A gap narrower than a gap fill's bead may be is the beads' spread, as the fill leaves it
+      // at its edges: neither laid nor reported.
+      std::vector<Polygon> gaps = uncovered(inside, next);
+      std::erase_if(gaps, [&](const Polygon& g) { return geom2d::offset({g}, -kGapFillMinWidthBeads * w / 2.0).empty(); });
+      std::vector<Candidate> laid =
+          lay_middles(gaps, fmt::format("gap between perimeters narrower than a bead ({} mm): not deposited", w), thin);
+      for (Candidate& c : laid) out.push_back(std::move(c));
+    }
+    return out;
+  }
+
+  // Each of PIECES laid as one bead along its middle (open fill paths marked gap fill; kept over
+  // REST_ON when given), what no bead covers reported as thin with WHAT.
+  std::vector<Candidate> lay_middles(const std::vector<Polygon>& pieces, const std::string& what, std::vector<ThinRegion>& thin) const {
+    const double w = o_.bead_width_mm, min_area = kThinMinAreaBeads2 * w * w;
     std::vector<Candidate> out;
     for (const Polygon& piece : pieces) {
       std::vector<Ring> lines;
@@ -465,8 +498,9 @@ core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& m
   core::Progress progress("toolpaths", layers.size());
   std::atomic<std::uint64_t> done{0};
   std::vector<std::string> failed(slices.conformal_base ? layers.size() : 0);
-  ToolpathOptions flat = options;
-  if (slices.conformal_base) flat.gap_fill = false;  // the curved layer's own beads are not projected
+  // A conformal layer's warp, made once (the gap fill's second pass plans the layer again).
+  std::vector<std::optional<detail::SurfaceWarp>> warps(slices.conformal_base ? layers.size() : 0);
+  const ToolpathOptions& flat = options;
   // Layer I's toolpaths, its gap fill kept over REST_ON when given (LayerPlanner).
   const std::vector<geom2d::Polygon> nothing;
   auto plan_layer = [&](std::size_t i, const std::vector<geom2d::Polygon>* rest_on) {
@@ -488,10 +522,14 @@ core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& m
     if (slices.conformal_base) {
       // Conformal: the paths are made on the section warped to the surface's lengths, then draped.
       const double step = kDrapeStepBeads * options.bead_width_mm;
-      const detail::SurfaceWarp warp(*slices.conformal_base, layers[i], step);
+      if (!warps[i]) warps[i].emplace(*slices.conformal_base, layers[i], step);
+      const detail::SurfaceWarp& warp = *warps[i];
       slicing::Layer warped = layers[i];
       warped.polygons = warp.warped(layers[i].polygons);
-      result[i] = LayerPlanner(mesh, flat, warped, nullptr).run();
+      // The beads below, seen along the layer's normal as its points are lifted, warped alike.
+      std::optional<std::vector<geom2d::Polygon>> warped_rest;
+      if (rest_on != nullptr) warped_rest = warp.warped(*rest_on);
+      result[i] = LayerPlanner(mesh, flat, warped, nullptr, warped_rest ? &*warped_rest : nullptr).run();
       failed[i] = detail::drape(*slices.conformal_base, layers[i], warp, step, result[i]);
       return;
     }

@@ -37,6 +37,7 @@ struct ConformalLayer {
   double level_mm = 0.0;              // the mid-surface's distance from the base
   double low_mm = 0.0, high_mm = 0.0; // the mid-surface's lowest and highest height along d (sampled)
   std::vector<std::vector<Vec3>> contours;  // the section's rings on the surface, world frame, closed implicitly
+  std::vector<std::vector<Vec3>> axes;      // the distance's gradient (unit) at each point of contours
   // The section carried down the gradient onto the base (each contour point less level_mm along
   // its tool axis: the distance's gradient lines are straight and normal to the base), projected
   // along d, in the frame's (u, v). Layer k holds layer k+1 where their footprints overlap: the

@@ -425,6 +425,62 @@ TEST(Toolpath, AnInteriorNarrowerThanTheLineSpacingGetsOneBeadAlongItsMiddleAtAn
   }
 }
 
+TEST(Toolpath, AGapBetweenPerimetersGetsOneBeadAlongItsMiddle) {
+  // Bars between two and three beads wide (bead 0.9 mm, two perimeters asked): the second
+  // perimeter does not fit, and the first leaves a gap of 0.5–0.85 mm between its sides. Turned
+  // about Z, every layer lays one gap-fill bead along the bar's middle, a whole spine long, and
+  // reports nothing; the bead rests on the one below (each layer's line over the last).
+  ToolpathOptions o;
+  o.bead_width_mm = 0.9;
+  o.perimeters = 2;
+  constexpr double kLength = 30.0;
+  for (const double width : {2.3, 2.55, 2.65}) {
+    for (const double turn_deg : {0.0, 17.0, 90.0}) {
+      io::RawMesh bar = test::box({-kLength / 2.0, -width / 2.0, 0}, {kLength / 2.0, width / 2.0, 2});
+      const double c = std::cos(turn_deg * kPi / 180.0), s = std::sin(turn_deg * kPi / 180.0);
+      for (auto& p : bar.points) p = {c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]};
+      const mesh::Mesh part = repaired(std::move(bar));
+      const auto layers = plan(part, sliced(part, 0.5), o);
+      ASSERT_EQ(layers.size(), 4u);
+      for (const auto& l : layers) {
+        EXPECT_TRUE(l.thin.empty()) << width << " " << turn_deg;
+        EXPECT_EQ(of_kind(l, PathKind::kPerimeter).size(), 1u);
+        const auto gap = gap_fill_of(l);
+        ASSERT_EQ(gap.size(), 1u) << width << " " << turn_deg << " layer " << l.layer;
+        EXPECT_TRUE(gap[0]->points.back().deposit);
+        for (const PathPoint& q : gap[0]->points) {
+          EXPECT_NEAR(-s * q.position_mm.x + c * q.position_mm.y, 0.0, 1e-5) << width << " " << turn_deg;
+        }
+        // The gap is the bar less a bead from each side; its spine is its length less its width.
+        const double gap_width = width - 2.0 * o.bead_width_mm;
+        EXPECT_NEAR(path_length(*gap[0]), kLength - 2.0 * o.bead_width_mm - gap_width, 1e-3) << width << " " << turn_deg;
+      }
+    }
+  }
+  // Narrower than a gap-fill bead may be (0.2 mm): the beads' spread; nothing laid or reported.
+  const mesh::Mesh narrow = repaired(test::box({0, 0, 0}, {kLength, 2.0, 2}));
+  for (const auto& l : plan(narrow, sliced(narrow, 0.5), o)) {
+    EXPECT_TRUE(l.thin.empty());
+    EXPECT_TRUE(gap_fill_of(l).empty());
+  }
+  // A tongue 2.55 mm wide on a block: both perimeters run round the block, the first alone down
+  // the tongue, and the gap it leaves there gets one bead from the block's second perimeter's bead
+  // to the tongue's end (each end half the gap's width in).
+  const mesh::Mesh tongue = repaired(test::join(test::box({0, 0, 0}, {12, 12, 2}), test::box({11, 4.725, 0}, {40, 7.275, 2})));
+  for (const auto& l : plan(tongue, sliced(tongue, 0.5), o)) {
+    EXPECT_TRUE(l.thin.empty());
+    const auto gap = gap_fill_of(l);
+    ASSERT_EQ(gap.size(), 1u);
+    double x0 = INFINITY, x1 = -INFINITY;
+    for (const PathPoint& q : gap[0]->points) {
+      EXPECT_NEAR(q.position_mm.y, 6.0, 1e-5);
+      x0 = std::min(x0, q.position_mm.x), x1 = std::max(x1, q.position_mm.x);
+    }
+    EXPECT_NEAR(x1, 40.0 - 0.9 - 0.375, 1e-3);
+    EXPECT_NEAR(x0, 12.0 - 0.9 + 0.375, 2e-3);  // the second perimeter's bead ends 0.9 inside the block (+1 µm slack)
+  }
+}
+
 TEST(Toolpath, GapFillIsLaidOnlyOverTheBeadsOfTheLayerBelow) {
   // A wall 0.8 mm thick (too thin to lay) under 1.5 mm (gap fill): nothing is laid over the unlaid
   // layers, so the upper part is reported too. The other way up, the lower part is laid and the
