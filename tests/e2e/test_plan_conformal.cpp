@@ -28,51 +28,6 @@ struct Shell {
 };
 
 
-// The thickness of the beads of the program in DIR, measured along each deposit point's tool axis:
-// to the dome ON_TABLE for the first layer (twice the depth: the tip is on the layer's mid-surface),
-// else to the beads of the layer before whose line passes within half a bead of the axis. Returns
-// the least and largest values and how many points were measured.
-struct Thickness {
-  double least = INFINITY, most = 0.0;
-  std::size_t measured = 0, points = 0;
-};
-Thickness bead_thickness(const std::vector<Tip>& tips, const RawMesh& on_table, double bead_mm) {
-  Thickness out;
-  std::map<int, std::map<std::array<long, 3>, std::vector<Vec3>>> by_layer;  // 2-bead cells
-  const double cell = 2.0 * bead_mm;
-  auto key = [&](Vec3 p) {
-    return std::array<long, 3>{static_cast<long>(std::floor(p.x / cell)), static_cast<long>(std::floor(p.y / cell)), static_cast<long>(std::floor(p.z / cell))};
-  };
-  int first = INT32_MAX;
-  for (const Tip& t : tips) by_layer[t.layer][key(t.tip)].push_back(t.tip), first = std::min(first, t.layer);
-  for (const Tip& t : tips) {
-    ++out.points;
-    double thickness = NAN;
-    if (t.layer == first) {
-      thickness = 2.0 * depth_under(on_table, t.tip, t.axis);
-    } else {
-      const auto below = by_layer.find(t.layer - 1);
-      if (below == by_layer.end()) continue;
-      double best = 0.5 * bead_mm;
-      const auto k = key(t.tip);
-      for (long i = -1; i <= 1; ++i)
-        for (long j = -1; j <= 1; ++j)
-          for (long l = -1; l <= 1; ++l) {
-            const auto it = below->second.find({k[0] + i, k[1] + j, k[2] + l});
-            if (it == below->second.end()) continue;
-            for (const Vec3& q : it->second) {
-              const double along = core::dot(t.tip - q, t.axis), across = core::norm((t.tip - q) - t.axis * along);
-              if (across < best) best = across, thickness = along;
-            }
-          }
-    }
-    if (std::isnan(thickness) || !std::isfinite(thickness)) continue;
-    ++out.measured;
-    out.least = std::min(out.least, thickness), out.most = std::max(out.most, thickness);
-  }
-  return out;
-}
-
 // Plans PART (in DIR, as NAME.stl) onto the dome DOME (a cap of RADIUS, as dome.stl) with
 // --layers LAYERS and checks the program read back: support-free, conformal layers (by the rule of
 // auto layers when LAYERS is auto), grounded and clear of the dome and the deposit, accepted by

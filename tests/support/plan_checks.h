@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -113,10 +114,11 @@ struct Tip {
   int layer = -1;
   core::Vec3 tip;
   core::Vec3 axis;  // the tool axis, unit, up the nozzle
+  int region = -1;
 };
 
 // The end points of the process-on feed blocks of the program in DIR, through forward kinematics on
-// the default machine, with their "(layer N" comment.
+// the default machine, with their "(layer N region R" comment.
 inline std::vector<Tip> deposit_tips(const std::filesystem::path& dir, const std::string& name) {
   auto m = machine::parse_machine(machine::default_machine_json(), "default");
   auto p = process::parse_process(process::default_process_json(), "default");
@@ -125,11 +127,15 @@ inline std::vector<Tip> deposit_tips(const std::filesystem::path& dir, const std
   std::string line;
   std::array<double, 6> pos{};
   bool on = false;
-  int layer = -1;
+  int layer = -1, region = -1;
   std::vector<Tip> out;
   const std::string letters = "XYZABC";
   while (std::getline(in, line)) {
-    if (line.rfind("(layer ", 0) == 0) layer = std::stoi(line.substr(7));
+    if (line.rfind("(layer ", 0) == 0) {
+      layer = std::stoi(line.substr(7));
+      const auto at = line.find(" region ");
+      region = at == std::string::npos ? -1 : std::stoi(line.substr(at + 8));
+    }
     if (line == p.value().process_on) on = true;
     if (line == p.value().process_off) on = false;
     if (line.rfind("G1 ", 0) != 0) continue;
@@ -138,7 +144,7 @@ inline std::vector<Tip> deposit_tips(const std::filesystem::path& dir, const std
     }
     if (!on) continue;
     const auto f = machine::forward(m.value(), {pos[0], pos[1], pos[2], pos[3], pos[5]});
-    out.push_back({layer, f.tip_part_mm, f.tool_axis_part});
+    out.push_back({layer, f.tip_part_mm, f.tool_axis_part, region});
   }
   return out;
 }
@@ -163,6 +169,58 @@ inline double depth_under(const io::RawMesh& mesh, core::Vec3 p, core::Vec3 n) {
   return best;
 }
 
+// The thickness of the beads of a program (deposit_tips), measured along each deposit point's tool
+// axis: for a region's first layer to ON_TABLE, the part it is laid onto (twice the depth: the tip
+// is on the layer's mid-surface), else to the beads of the region's layer before whose line passes
+// within half a bead of the axis. The least and largest values and how many points were measured.
+struct Thickness {
+  double least = INFINITY, most = 0.0;
+  std::size_t measured = 0, points = 0;
+};
+inline Thickness bead_thickness(const std::vector<Tip>& tips, const io::RawMesh& on_table, double bead_mm) {
+  Thickness out;
+  std::map<int, std::map<std::array<long, 3>, std::vector<core::Vec3>>> by_layer;  // 2-bead cells
+  std::map<int, int> before;                                                     // layer -> its region's layer before (-1: first)
+  std::map<int, int> last_of_region;
+  const double cell = 2.0 * bead_mm;
+  auto key = [&](core::Vec3 p) {
+    return std::array<long, 3>{static_cast<long>(std::floor(p.x / cell)), static_cast<long>(std::floor(p.y / cell)), static_cast<long>(std::floor(p.z / cell))};
+  };
+  for (const Tip& t : tips) {
+    by_layer[t.layer][key(t.tip)].push_back(t.tip);
+    if (!before.count(t.layer)) {
+      const auto last = last_of_region.find(t.region);
+      before[t.layer] = last == last_of_region.end() ? -1 : last->second;
+      last_of_region[t.region] = t.layer;
+    }
+  }
+  for (const Tip& t : tips) {
+    ++out.points;
+    double thickness = NAN;
+    if (before[t.layer] < 0) {
+      thickness = 2.0 * depth_under(on_table, t.tip, t.axis);
+    } else {
+      const auto& below = by_layer[before[t.layer]];
+      double best = 0.5 * bead_mm;
+      const auto k = key(t.tip);
+      for (long i = -1; i <= 1; ++i)
+        for (long j = -1; j <= 1; ++j)
+          for (long l = -1; l <= 1; ++l) {
+            const auto it = below.find({k[0] + i, k[1] + j, k[2] + l});
+            if (it == below.end()) continue;
+            for (const core::Vec3& q : it->second) {
+              const double along = core::dot(t.tip - q, t.axis), across = core::norm((t.tip - q) - t.axis * along);
+              if (across < best) best = across, thickness = along;
+            }
+          }
+    }
+    if (std::isnan(thickness) || !std::isfinite(thickness)) continue;
+    ++out.measured;
+    out.least = std::min(out.least, thickness), out.most = std::max(out.most, thickness);
+  }
+  return out;
+}
+
 // The program in DIR read back (support/readback.h) on the default machine and process, with the
 // plate report.json states; checks what every plan must hold and returns the reading.
 // ALLOW_COLLISIONS: a plan written with --allow-collisions, whose collisions are listed.
@@ -176,8 +234,15 @@ inline ReadBack check_readback(const std::filesystem::path& dir, const std::stri
   EXPECT_TRUE(machine.ok() && process.ok());
   const auto report = read_json(dir / "report.json");
   const auto& sub = report["substrate"];
-  const Plate plate{sub["x_mm"][0].get<double>(), sub["x_mm"][1].get<double>(), sub["y_mm"][0].get<double>(), sub["y_mm"][1].get<double>(),
-                    sub["top_z_mm"].get<double>(), sub["top_z_mm"].get<double>() - sub["thickness_mm"].get<double>()};
+  Plate plate{sub["x_mm"][0].get<double>(), sub["x_mm"][1].get<double>(), sub["y_mm"][0].get<double>(), sub["y_mm"][1].get<double>(),
+              sub["top_z_mm"].get<double>(), sub["top_z_mm"].get<double>() - sub["thickness_mm"].get<double>()};
+  if (std::filesystem::exists(dir / "plan.json")) {
+    const auto head = read_json(dir / "plan.json")["head"];
+    if (head.contains("table_radius_mm")) {
+      plate.table_radius = head["table_radius_mm"].get<double>();
+      plate.table_cx = head["table_centre_mm"][0].get<double>(), plate.table_cy = head["table_centre_mm"][1].get<double>();
+    }
+  }
   const process::ProcessConfig& p = process.value();
   const double spacing = p.bead_width_mm / 4.0;
   const double step = std::max(p.max_step_bead_share * p.bead_width_mm, p.layer_max_mm * std::tan(p.self_supporting_deg * M_PI / 180.0));

@@ -22,6 +22,9 @@ namespace polyaxis::test {
 
 struct Plate {  // the substrate's rectangle and top, and the table's top (report.json "substrate")
   double x0, x1, y0, y1, top, table_top;
+  // The table is a disc (plan.json "head": table_radius_mm about table_centre_mm); beyond its edge
+  // the build model holds nothing (the machine file describes no cradle under it).
+  double table_radius = INFINITY, table_cx = 0.0, table_cy = 0.0;
 };
 
 struct ReadBack {
@@ -40,10 +43,11 @@ struct ReadBack {
 // - head: the nozzle is a cone (half-angle θ, height z1) under a cylinder (radius R, height H);
 //   every circle bounding them (at z1 with the larger radius, at z1 + H with R) has its lowest
 //   point at centre.z − r·sin(tilt); that point, and the tip, must not be below the plate's top
-//   where the circle's disc overlaps the plate, nor below the table's top elsewhere. Where that
-//   fails, the head's lines every degree about the axis decide instead (the cone's side from 1 mm
-//   above the tip, the cylinder's bottom and side): no part of a line over the plate's rectangle
-//   below its top, no line below the table's top.
+//   where the circle's disc overlaps the plate, nor below the table's top elsewhere over the
+//   table's disc (PLATE.table_radius; beyond it the build model holds nothing). Where that fails,
+//   the head's lines every degree about the axis decide instead (the cone's side from 1 mm above
+//   the tip, the cylinder's bottom and side): no part of a line over the plate's rectangle below
+//   its top, no part of a line over the table's disc below the table's top.
 // - grounding: a deposit sample is grounded when it is over the plate within REACH_MM of its top,
 //   or when a deposit sample of an earlier layer ("(layer N" comments) lies within REACH_MM.
 // - stall: a block with the process on whose tip path over its duration (F as LinuxCNC reads it
@@ -66,7 +70,8 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
   const double r1 = std::max(R, z1 * std::tan(m.nozzle.tip_half_angle_deg * kPi / 180.0));
   auto surface = [&](double x, double y, double r) {
     const double dx = std::max({plate.x0 - x, 0.0, x - plate.x1}), dy = std::max({plate.y0 - y, 0.0, y - plate.y1});
-    return dx * dx + dy * dy <= r * r ? plate.top : plate.table_top;
+    if (dx * dx + dy * dy <= r * r) return plate.top;
+    return std::hypot(x - plate.table_cx, y - plate.table_cy) <= plate.table_radius + r ? plate.table_top : -INFINITY;
   };
   // Where a circle's disc overlaps the plate only in part, its part beyond the plate may be lower
   // than the plate's top: the head is taken by its lines instead, every degree about the axis (the
@@ -78,7 +83,24 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
     const double rc = z1 * std::tan(m.nozzle.tip_half_angle_deg * kPi / 180.0);
     double low = INFINITY;
     auto line = [&](core::Vec3 p, core::Vec3 q) {
-      low = std::min(low, std::min(p.z, q.z) - plate.table_top);
+      {  // the part of P→Q over the table's disc against its top
+        double s0 = 0.0, s1 = 1.0;
+        if (std::isfinite(plate.table_radius)) {
+          const double ex = q.x - p.x, ey = q.y - p.y, fx = p.x - plate.table_cx, fy = p.y - plate.table_cy;
+          const double qa = ex * ex + ey * ey, qb = 2.0 * (ex * fx + ey * fy), qc = fx * fx + fy * fy - plate.table_radius * plate.table_radius;
+          if (qa < 1e-18) {
+            if (qc > 0.0) s1 = -1.0;
+          } else {
+            const double disc = qb * qb - 4.0 * qa * qc;
+            if (disc < 0.0) {
+              s1 = -1.0;
+            } else {
+              s0 = std::max(0.0, (-qb - std::sqrt(disc)) / (2.0 * qa)), s1 = std::min(1.0, (-qb + std::sqrt(disc)) / (2.0 * qa));
+            }
+          }
+        }
+        if (s0 <= s1) low = std::min(low, std::min(p.z + (q.z - p.z) * s0, p.z + (q.z - p.z) * s1) - plate.table_top);
+      }
       // The part of P→Q over the plate's rectangle (Liang–Barsky), its lower end against the top.
       double t0 = 0.0, t1 = 1.0;
       const double d[2] = {q.x - p.x, q.y - p.y}, lo[2] = {plate.x0 - p.x, plate.y0 - p.y}, hi[2] = {plate.x1 - p.x, plate.y1 - p.y};
@@ -132,6 +154,30 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
     const bool in_cone = h <= z1 + grow && r * cos_th - h * sin_th <= grow;
     const bool in_cylinder = h >= z1 - grow && h <= z1 + H + grow && r <= R + grow;
     return in_cone || in_cylinder;
+  };
+  // HEAD_PREBUILT in cubic cells: a check visits only the cells whose centre lies within the head's
+  // reach (its radius grown, plus half a cell's diagonal) of the segment along its axis.
+  const double prebuilt_cell = 4.0;
+  std::map<std::array<long, 3>, std::vector<core::Vec3>> prebuilt_cells;
+  for (const core::Vec3& q : head_prebuilt) {
+    prebuilt_cells[{static_cast<long>(std::floor(q.x / prebuilt_cell)), static_cast<long>(std::floor(q.y / prebuilt_cell)),
+                    static_cast<long>(std::floor(q.z / prebuilt_cell))}].push_back(q);
+  }
+  std::vector<std::pair<core::Vec3, const std::vector<core::Vec3>*>> prebuilt_by_cell;
+  for (const auto& [c, pts] : prebuilt_cells) {
+    auto mid = [&](long i) { return (static_cast<double>(i) + 0.5) * prebuilt_cell; };
+    prebuilt_by_cell.emplace_back(core::Vec3{mid(c[0]), mid(c[1]), mid(c[2])}, &pts);
+  }
+  const double head_reach = std::max(R + grow, (z1 + grow) * sin_th / cos_th + grow / cos_th) + 0.5 * std::sqrt(3.0) * prebuilt_cell;
+  auto prebuilt_in_head = [&](core::Vec3 t, core::Vec3 a) {
+    for (const auto& [centre, pts] : prebuilt_by_cell) {
+      const double h = std::clamp(core::dot(centre - t, a), -grow, z1 + H + grow);
+      if (core::norm(centre - (t + a * h)) > head_reach) continue;
+      for (const core::Vec3& q : *pts) {
+        if (in_head(t, a, q)) return true;
+      }
+    }
+    return false;
   };
   double since_prebuilt_check = INFINITY;
   core::Vec3 last_checked, last_checked_axis{0, 0, 1};
@@ -267,12 +313,9 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
       if (!head_prebuilt.empty() && (since_prebuilt_check >= 3.0 * proc.bead_width_mm || turned || (k == n && !on))) {
         since_prebuilt_check = 0.0;
         last_checked_axis = a;
-        for (const core::Vec3& q : head_prebuilt) {
-          if (in_head(t, a, q)) {
-            ++rb.head_in_prebuilt;
-            if (rb.first_problem.empty()) rb.first_problem = "head in the prebuilt part: " + line;
-            break;
-          }
+        if (prebuilt_in_head(t, a)) {
+          ++rb.head_in_prebuilt;
+          if (rb.first_problem.empty()) rb.first_problem = "head in the prebuilt part: " + line;
         }
       }
       if (!on || !have) continue;
