@@ -392,6 +392,14 @@ TEST(Toolpath, WallsAndFinsBetweenHalfABeadAndABeadGetOneBeadAlongTheirMiddle) {
   }
 }
 
+// A bar LENGTH × WIDTH × 2 mm centred on the origin, turned TURN_DEG about Z.
+mesh::Mesh turned_bar(double length, double width, double turn_deg) {
+  io::RawMesh bar = test::box({-length / 2.0, -width / 2.0, 0}, {length / 2.0, width / 2.0, 2});
+  const double c = std::cos(turn_deg * kPi / 180.0), s = std::sin(turn_deg * kPi / 180.0);
+  for (auto& p : bar.points) p = {c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]};
+  return repaired(std::move(bar));
+}
+
 TEST(Toolpath, AnInteriorNarrowerThanTheLineSpacingGetsOneBeadAlongItsMiddleAtAnyTurn) {
   // Bars a few beads wide (bead 0.9 mm, two perimeters: 3.6 mm of perimeter beads) leave an
   // interior of 0.2–0.8 mm. Turned about Z by any angle, on layers whose fill turns by 90° from one
@@ -403,10 +411,8 @@ TEST(Toolpath, AnInteriorNarrowerThanTheLineSpacingGetsOneBeadAlongItsMiddleAtAn
   constexpr double kLength = 40.0;
   for (const double width : {4.1, 4.3, 4.4}) {
     for (const double turn_deg : {0.0, 6.0, 30.0, 45.0, 84.0, 90.0}) {
-      io::RawMesh bar = test::box({-kLength / 2.0, -width / 2.0, 0}, {kLength / 2.0, width / 2.0, 2});
       const double c = std::cos(turn_deg * kPi / 180.0), s = std::sin(turn_deg * kPi / 180.0);
-      for (auto& p : bar.points) p = {c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]};
-      const mesh::Mesh part = repaired(std::move(bar));
+      const mesh::Mesh part = turned_bar(kLength, width, turn_deg);
       const auto layers = plan(part, sliced(part, 0.5), o);
       ASSERT_EQ(layers.size(), 4u);
       for (const auto& l : layers) {
@@ -436,10 +442,8 @@ TEST(Toolpath, AGapBetweenPerimetersGetsOneBeadAlongItsMiddle) {
   constexpr double kLength = 30.0;
   for (const double width : {2.3, 2.55, 2.65}) {
     for (const double turn_deg : {0.0, 17.0, 90.0}) {
-      io::RawMesh bar = test::box({-kLength / 2.0, -width / 2.0, 0}, {kLength / 2.0, width / 2.0, 2});
       const double c = std::cos(turn_deg * kPi / 180.0), s = std::sin(turn_deg * kPi / 180.0);
-      for (auto& p : bar.points) p = {c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]};
-      const mesh::Mesh part = repaired(std::move(bar));
+      const mesh::Mesh part = turned_bar(kLength, width, turn_deg);
       const auto layers = plan(part, sliced(part, 0.5), o);
       ASSERT_EQ(layers.size(), 4u);
       for (const auto& l : layers) {
