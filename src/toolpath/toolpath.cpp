@@ -500,7 +500,6 @@ core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& m
   std::vector<std::string> failed(slices.conformal_base ? layers.size() : 0);
   // A conformal layer's warp, made once (the gap fill's second pass plans the layer again).
   std::vector<std::optional<detail::SurfaceWarp>> warps(slices.conformal_base ? layers.size() : 0);
-  const ToolpathOptions& flat = options;
   // Layer I's toolpaths, its gap fill kept over REST_ON when given (LayerPlanner).
   const std::vector<geom2d::Polygon> nothing;
   auto plan_layer = [&](std::size_t i, const std::vector<geom2d::Polygon>* rest_on) {
@@ -529,11 +528,11 @@ core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& m
       // The beads below, seen along the layer's normal as its points are lifted, warped alike.
       std::optional<std::vector<geom2d::Polygon>> warped_rest;
       if (rest_on != nullptr) warped_rest = warp.warped(*rest_on);
-      result[i] = LayerPlanner(mesh, flat, warped, nullptr, warped_rest ? &*warped_rest : nullptr).run();
+      result[i] = LayerPlanner(mesh, options, warped, nullptr, warped_rest ? &*warped_rest : nullptr).run();
       failed[i] = detail::drape(*slices.conformal_base, layers[i], warp, step, result[i]);
       return;
     }
-    result[i] = LayerPlanner(mesh, flat, layers[i], facets ? &*facets : nullptr, rest_on).run();
+    result[i] = LayerPlanner(mesh, options, layers[i], facets ? &*facets : nullptr, rest_on).run();
   };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layers.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) plan_layer(i, i == 0 && !options.gap_fill_first_layer ? &nothing : nullptr);
@@ -545,7 +544,7 @@ core::Result<std::vector<LayerToolpaths>> toolpaths_in_arena(const mesh::Mesh& m
   // laid either, and a line steps out no further than a wall may. Such a layer is planned again (few layers have
   // gap fill; the rest of a layer is as it was).
   const double tan_alpha = std::tan(options.self_supporting_deg * kPi / 180.0);
-  for (std::size_t i = 1; flat.gap_fill && i < layers.size(); ++i) {
+  for (std::size_t i = 1; options.gap_fill && i < layers.size(); ++i) {
     if (!has_gap_fill(result[i])) continue;
     // Between parallel layers the distance between their planes; tilted layers fan, so the least
     // thickness of this one (as the support check takes them, planner/support.cpp).

@@ -40,8 +40,9 @@ struct ConformalLayer {
   std::vector<std::vector<Vec3>> axes;      // the distance's gradient (unit) at each point of contours
   // The section carried down the gradient onto the base (each contour point less level_mm along
   // its tool axis: the distance's gradient lines are straight and normal to the base), projected
-  // along d, in the frame's (u, v). Layer k holds layer k+1 where their footprints overlap: the
-  // support check compares footprints, as it compares planar layers' sections.
+  // along d, in the frame's (u, v): the slicer's overhang estimate compares footprints. (The
+  // planner's support check carries each layer only onto the one below, with axes: footprints fold
+  // where the base ends, at a rim whose gradient lines all start on its edge.)
   std::vector<geom2d::Polygon> footprint;
 };
 

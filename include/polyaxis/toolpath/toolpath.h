@@ -99,7 +99,9 @@ struct ToolpathOptions {
   // the distance between parallel layers' planes, a tilted layer's least thickness; seen along its
   // normal): a bead never starts over a thin piece that was not laid, and a line steps out from the
   // one below no further than the support check lets a wall step (planner/support.h).
-  // On conformal layers there is no gap fill.
+  // On conformal layers the paths are planned on the section warped to the surface (SurfaceWarp),
+  // and the beads below are seen along the layer's normal and warped alike. The same bead fills the
+  // gap a perimeter leaves where the next cannot follow it (at least kGapFillMinWidthBeads wide).
   bool gap_fill = true;
   // The sideways step a bead may take from the one below whatever the angle (the process's
   // max_step_bead_share × bead width, at most half a bead: the bead then still rests on the one
