@@ -161,14 +161,15 @@ class LayerPlanner {
     std::vector<Candidate> gap = gap_fill(polygon, first, thin);
     Island groups;
     const auto n = static_cast<std::uint32_t>(o_.perimeters);
+    std::vector<std::vector<Polygon>> rings;  // the perimeters' paths, up to the first that is empty
     for (std::uint32_t k = 0; k < n; ++k) {
-      const std::vector<Polygon> ring = k == 0 ? first : geom2d::offset(island, -(w / 2.0 + k * s));
-      if (ring.empty()) break;
+      rings.push_back(k == 0 ? first : geom2d::offset(island, -(w / 2.0 + k * s)));
+      if (rings.back().empty()) break;
       groups.emplace_back();
-      add_rings(ring, PathKind::kPerimeter, k, k == 0, true, groups.back());
+      add_rings(rings.back(), PathKind::kPerimeter, k, k == 0, true, groups.back());
     }
     if (!gap.empty()) groups.push_back(std::move(gap));
-    if (std::vector<Candidate> between = gaps_between_perimeters(island, thin); !between.empty()) groups.push_back(std::move(between));
+    if (std::vector<Candidate> between = gaps_between_perimeters(island, rings, thin); !between.empty()) groups.push_back(std::move(between));
     if (o_.fill == ToolpathOptions::kZigzag) {
       // The innermost perimeter's bead edge: lines s/2 inside it sit a full spacing from it.
       const std::vector<Polygon> region = geom2d::offset(island, -(w / 2.0 + n * s - s / 2.0));
@@ -230,13 +231,20 @@ class LayerPlanner {
   // bead that perimeter K's bead does not reach, each piece at least kGapFillMinWidthBeads wide
   // one bead along its middle as gap_fill's. The fill region starts inside the last perimeter and
   // lays its own narrow pieces.
-  std::vector<Candidate> gaps_between_perimeters(const std::vector<Polygon>& island, std::vector<ThinRegion>& thin) const {
-    const double w = o_.bead_width_mm, s = spacing_mm();
+  // RINGS: the perimeters' paths (plan_island), the last one empty where one did not fit.
+  std::vector<Candidate> gaps_between_perimeters(const std::vector<Polygon>& island, const std::vector<std::vector<Polygon>>& rings,
+                                                 std::vector<ThinRegion>& thin) const {
+    const double w = o_.bead_width_mm, s = spacing_mm(), min_area = kThinMinAreaBeads2 * w * w;
     std::vector<Candidate> out;
-    for (int k = 1; k < o_.perimeters; ++k) {
-      const std::vector<Polygon> inside = geom2d::offset(island, -(w + (k - 1) * s));  // perimeter K − 1's bead's inner edge
+    for (std::size_t k = 1; k < rings.size() + 1 && k < static_cast<std::size_t>(o_.perimeters); ++k) {
+      if (rings[k - 1].empty()) break;
+      const std::vector<Polygon> inside = geom2d::offset(island, -(w + static_cast<double>(k - 1) * s));  // perimeter K − 1's bead's inner edge
       if (inside.empty()) break;
-      const std::vector<Polygon> next = geom2d::offset(island, -(w / 2.0 + k * s));
+      const std::vector<Polygon> none;
+      const std::vector<Polygon>& next = k < rings.size() ? rings[k] : none;
+      // Beads that do not overlap (s = w): perimeter K's bead lies inside INSIDE, so where their
+      // areas agree no piece can be left (the common case: a wall every perimeter follows).
+      if (s >= w && !next.empty() && geom2d::area_mm2(inside) - geom2d::area_mm2(geom2d::offset(next, w / 2.0)) < min_area) continue;
       // A gap narrower than a gap fill's bead may be is the beads' spread, as the fill leaves it
       // at its edges: neither laid nor reported.
       std::vector<Polygon> gaps = uncovered(inside, next);
