@@ -7,8 +7,13 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <set>
 
+#include <tbb/parallel_for.h>
+
+#include "core/arena.h"
+#include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/mesh/distance.h"
 #include "polyaxis/mesh/properties.h"
@@ -607,19 +612,24 @@ double steady_turn_deg_per_mm(const machine::MachineConfig& machine, const proce
   return kRotaryShare * machine.feed.rotary_max_deg_min / 60.0 / process.deposit_feed_mm_s;
 }
 
-// Slices REGION (placed) along its direction, makes its toolpaths with the torch guarded, and
-// appends its layers to PLAN, numbered after those there; REGIONS (placed): all of the plan's, for
-// its prebuilt ones (trim_over_prebuilt). TOPOLOGY: the whole part's, for an undivided part (null
-// otherwise).
-core::Status add_region(Plan& plan, PlanRegion& region, const std::vector<PlanRegion>& regions, const mesh::EdgeTopology* topology,
-                        const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanOptions& options,
-                        const std::shared_ptr<const mesh::SurfaceDistance>& base) {
-  auto t0 = Clock::now();
+// Slices REGION (placed) along its direction; REGIONS (placed): all of the plan's, for its prebuilt
+// ones (trim_over_prebuilt). TOPOLOGY: the whole part's, for an undivided part (null otherwise).
+// Reads nothing of the plan: regions are sliced side by side.
+core::Result<slicing::SliceResult> slice_region(PlanRegion& region, const std::vector<PlanRegion>& regions, const mesh::EdgeTopology* topology,
+                                                const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                                                const PlanOptions& options, const std::shared_ptr<const mesh::SurfaceDistance>& base) {
   auto layers = region_layers(region, topology, machine, process, options, base);
-  if (!layers) return layers.error();
+  if (!layers) return layers;
   trim_over_prebuilt(layers.value(), regions, region, process.layer_min_mm);
-  plan.times.slice_s += since(t0);
-  t0 = Clock::now();
+  return layers;
+}
+
+// The toolpaths of REGION's LAYERS (the torch not yet guarded). Reads nothing of the plan: regions'
+// toolpaths are made side by side (a region's gap fill is planned again bottom up, one layer
+// after another, so side by side is where the second core goes).
+core::Result<std::vector<toolpath::LayerToolpaths>> region_toolpaths(const PlanRegion& region, const slicing::SliceResult& layers,
+                                                                     const machine::MachineConfig& machine,
+                                                                     const process::ProcessConfig& process, const PlanOptions& options) {
   toolpath::ToolpathOptions tp;
   tp.bead_width_mm = process.bead_width_mm;
   tp.perimeters = options.perimeters;
@@ -631,31 +641,74 @@ core::Status add_region(Plan& plan, PlanRegion& region, const std::vector<PlanRe
   tp.max_axis_turn_deg_per_mm = steady_turn_deg_per_mm(machine, process);
   // Gap fill in the first layer only where it stands upright on the plate's top (Z = 0 placed), or
   // lies on a prebuilt part's surface (conformal layers: their first level is on it everywhere).
-  if (!layers.value().layers.empty()) {
-    const slicing::Layer& first = layers.value().layers.front();
-    tp.gap_fill_first_layer = layers.value().conformal_base != nullptr ||
+  if (!layers.layers.empty()) {
+    const slicing::Layer& first = layers.layers.front();
+    tp.gap_fill_first_layer = layers.conformal_base != nullptr ||
                               (first.frame.d.z > 1.0 - kUprightCos && std::abs(first.height_mm - first.below_mm) <= kOnPlateMm);
   }
-  auto paths = toolpath::make_toolpaths(region.mesh, layers.value(), tp);
-  if (!paths) return paths.error();
-  if (auto s = guard_axes(plan, machine, options, region, layers.value(), paths.value()); !s) return s.error();
-  plan.times.toolpath_s += since(t0);
+  return toolpath::make_toolpaths(region.mesh, layers, tp);
+}
+
+// Guards the torch of REGION's PATHS and appends its LAYERS and PATHS to PLAN, numbered after
+// those there (regions in build order).
+core::Status append_region(Plan& plan, const PlanRegion& region, slicing::SliceResult&& layers, std::vector<toolpath::LayerToolpaths>&& paths,
+                           const machine::MachineConfig& machine, const PlanOptions& options) {
+  if (auto s = guard_axes(plan, machine, options, region, layers, paths); !s) return s.error();
   // Layers are numbered across regions, in build order.
   const auto offset = static_cast<std::uint32_t>(plan.layers.layers.size());
-  for (slicing::Layer& l : layers.value().layers) {
+  for (slicing::Layer& l : layers.layers) {
     l.index += offset;
     plan.layers.layers.push_back(std::move(l));
     plan.region_of_layer.push_back(region.id);
   }
-  if (layers.value().conformal_base) plan.layers.conformal_base = layers.value().conformal_base;
-  plan.layers.open_chains += layers.value().open_chains;
-  plan.layers.total_area_mm2 += layers.value().total_area_mm2;
-  plan.layers.volume_estimate_mm3 += layers.value().volume_estimate_mm3;
-  for (toolpath::LayerToolpaths& lt : paths.value()) {
+  if (layers.conformal_base) plan.layers.conformal_base = layers.conformal_base;
+  plan.layers.open_chains += layers.open_chains;
+  plan.layers.total_area_mm2 += layers.total_area_mm2;
+  plan.layers.volume_estimate_mm3 += layers.volume_estimate_mm3;
+  for (toolpath::LayerToolpaths& lt : paths) {
     lt.layer += offset;
     for (toolpath::Path& path : lt.paths) path.layer += offset;
     plan.toolpaths.push_back(std::move(lt));
   }
+  return {};
+}
+
+// Slices every region of REGIONS (placed) that is not prebuilt and makes its toolpaths, regions side
+// by side, then appends them to PLAN in their order (append_region). The first region's error in
+// that order is returned, as one region after another would. TOPOLOGY as slice_region's.
+core::Status add_regions(Plan& plan, std::vector<PlanRegion>& regions, const mesh::EdgeTopology* topology, const machine::MachineConfig& machine,
+                         const process::ProcessConfig& process, const PlanOptions& options,
+                         const std::shared_ptr<const mesh::SurfaceDistance>& base) {
+  auto stopped = [&] { return options.stop != nullptr && options.stop->load(std::memory_order_relaxed); };
+  const core::Error stop_error{core::ErrorCode::kInfeasible, "stopped"};
+  const std::size_t n = regions.size();
+  const auto progress = core::ProgressScope::current();  // each region may run on a worker thread
+  auto each_region = [&](auto&& work) {
+    core::with_threads(options.threads, [&] {
+      tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+        const core::ProgressScope scope(progress);
+        if (!regions[i].prebuilt && !stopped()) work(i);
+      });
+    });
+  };
+  auto t0 = Clock::now();
+  std::vector<std::optional<core::Result<slicing::SliceResult>>> layers(n);
+  each_region([&](std::size_t i) { layers[i].emplace(slice_region(regions[i], regions, topology, machine, process, options, base)); });
+  plan.times.slice_s += since(t0);
+  t0 = Clock::now();
+  std::vector<std::optional<core::Result<std::vector<toolpath::LayerToolpaths>>>> paths(n);
+  each_region([&](std::size_t i) {
+    if (layers[i]->ok()) paths[i].emplace(region_toolpaths(regions[i], layers[i]->value(), machine, process, options));
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    if (regions[i].prebuilt) continue;
+    if (stopped() || !layers[i]) return stop_error;
+    if (!layers[i]->ok()) return layers[i]->error();
+    if (!paths[i]) return stop_error;
+    if (!paths[i]->ok()) return paths[i]->error();
+    if (auto s = append_region(plan, regions[i], std::move(layers[i]->value()), std::move(paths[i]->value()), machine, options); !s) return s;
+  }
+  plan.times.toolpath_s += since(t0);
   return {};
 }
 
@@ -736,13 +789,9 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   const std::shared_ptr<const mesh::SurfaceDistance> base = prebuilt_surface(regions, options.layers);
   auto stopped = [&] { return options.stop != nullptr && options.stop->load(std::memory_order_relaxed); };
   const core::Error stop_error{core::ErrorCode::kInfeasible, "stopped"};
-  for (PlanRegion& region : regions) {
-    if (stopped()) return stop_error;
-    if (region.prebuilt) continue;
-    // The whole part's topology is valid only for the unsplit part.
-    if (auto st = add_region(plan, region, regions, given_regions.empty() ? &part.topology : nullptr, machine, process, options, base); !st) {
-      return st.error();
-    }
+  // The whole part's topology is valid only for the unsplit part.
+  if (auto st = add_regions(plan, regions, given_regions.empty() ? &part.topology : nullptr, machine, process, options, base); !st) {
+    return st.error();
   }
   plan.placed_regions = regions;
   if (plan.layers.layers.empty()) {
