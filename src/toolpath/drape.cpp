@@ -13,8 +13,6 @@ namespace polyaxis::toolpath::detail {
 namespace {
 
 constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
-// Consecutive draped points nearer than this are one (mm).
-constexpr double kSamePointMm = 1e-4;
 
 // PATH's points with every move cut into pieces no longer than STEP_MM; a new point takes the
 // deposit flag of the move it lies on.

@@ -36,6 +36,12 @@ class SurfaceWarp {
 // The rays of SurfaceWarp.
 inline constexpr int kWarpRays = 128;
 
+// Consecutive path points nearer than this are one, mm: below the program's resolution (G-code
+// words of 0.1 µm) such a point is no move of the tip, only a block whose rotary words differ in
+// the last digit, the tool turning in place. Draped points that fall together, and the vertices a
+// unit (1 nm) apart that the offsets' round joins leave (two_branches: 15 000), are merged.
+inline constexpr double kSamePointMm = 1e-4;
+
 // The paths of conformal LAYER, made on its section warped by WARP, carried onto its surface:
 // every path is cut into pieces no longer than STEP_MM, each point is mapped back to the layer's
 // plane, lifted along the layer's normal onto the level set (slicing::lift) and takes the

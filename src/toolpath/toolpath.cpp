@@ -347,6 +347,19 @@ class LayerPlanner {
     return out;
   }
 
+  // The indices of C's points less those within detail::kSamePointMm of the point kept before them (and,
+  // on a closed path, of its first point, which closes it).
+  static std::vector<std::size_t> distinct_points(const Candidate& c) {
+    const double same = detail::kSamePointMm * geom2d::kUnitsPerMm;
+    auto near = [&](Point a, Point b) { return std::hypot(static_cast<double>(a.x - b.x), static_cast<double>(a.y - b.y)) < same; };
+    std::vector<std::size_t> kept;
+    for (std::size_t i = 0; i < c.points.size(); ++i) {
+      if (kept.empty() || !near(c.points[i], c.points[kept.back()])) kept.push_back(i);
+    }
+    while (c.closed && kept.size() > 1 && near(c.points[kept.back()], c.points.front())) kept.pop_back();
+    return kept;
+  }
+
   void emit(std::vector<Candidate> ordered, LayerToolpaths& out) const {
     for (const Candidate& c : ordered) {
       Path path;
@@ -357,7 +370,7 @@ class LayerPlanner {
       path.outer_contour = c.outer_contour;
       path.gap_fill = c.gap_fill;
       const std::vector<Vec3> axis = axes(c);
-      for (std::size_t i = 0; i < c.points.size(); ++i) path.points.push_back({world(c.points[i]), axis[i], i > 0});
+      for (const std::size_t i : distinct_points(c)) path.points.push_back({world(c.points[i]), axis[i], !path.points.empty()});
       if (c.closed) path.points.push_back({world(c.points.front()), axis.front(), true});
       for (std::size_t i = 1; i < path.points.size(); ++i) {
         out.deposit_length_mm += core::norm(path.points[i].position_mm - path.points[i - 1].position_mm);

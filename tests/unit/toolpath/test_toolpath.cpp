@@ -563,6 +563,47 @@ TEST(Toolpath, GapFillStepsAsFarAsTheMaxStepLetsAWallLean) {
   EXPECT_FALSE(make_toolpaths(box, sliced(box, 1.0), bad).ok());
 }
 
+// Every pair of consecutive points of PATHS at least the program's resolution apart (0.1 µm: the
+// G-code's words), else the G-code gets a block where the tip stays and the tool turns in place.
+void expect_distinct_points(const std::vector<LayerToolpaths>& layers, const std::string& what) {
+  std::size_t near = 0, points = 0;
+  for (const LayerToolpaths& l : layers) {
+    for (const Path& p : l.paths) {
+      points += p.points.size();
+      for (std::size_t i = 1; i < p.points.size(); ++i) near += core::norm(p.points[i].position_mm - p.points[i - 1].position_mm) < 1e-4;
+    }
+  }
+  EXPECT_GT(points, 0u) << what;
+  EXPECT_EQ(near, 0u) << what << ": " << near << " of " << points << " path points within 0.1 um of the one before";
+}
+
+TEST(Toolpath, NoPathPointFallsWithinTheProgramsResolutionOfTheOneBefore) {
+  // A star whose reflex corners the inward offsets round off, stood along Y, sliced across.
+  std::vector<std::array<double, 2>> star;
+  for (int k = 0; k < 14; ++k) {
+    const double a = 2.0 * kPi * k / 14.0 + 0.11, r = k % 2 == 0 ? 12.0 : 5.5;
+    star.push_back({r * std::cos(a), 10.0 + r * std::sin(a)});
+  }
+  const mesh::Mesh prism = repaired(test::prism_xz(star, 3.0));
+  slicing::SliceOptions across;
+  across.layer_mm = 0.7;
+  across.direction = {0, 1, 0};
+  const auto star_layers = slicing::slice(prism, across);
+  ASSERT_TRUE(star_layers.ok());
+  // A round bar bent through a quarter turn (a torus' sector), and a reference part built of them.
+  const mesh::Mesh bent = repaired(test::bent_bar(20.0, 5.0, 90.0, 64, 32));
+  auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/two_branches.stl");
+  ASSERT_TRUE(read.ok());
+  const mesh::Mesh two_branches = repaired(std::move(read.value().mesh));
+  for (auto fill : {ToolpathOptions::kZigzag, ToolpathOptions::kContour}) {
+    ToolpathOptions o;
+    o.fill = fill;
+    expect_distinct_points(plan(prism, star_layers.value(), o), "star");
+    expect_distinct_points(plan(bent, sliced(bent, 0.6), o), "bent bar");
+    expect_distinct_points(plan(two_branches, sliced(two_branches, 0.6), o), "two_branches");
+  }
+}
+
 TEST(Toolpath, SeamsMoveFromLayerToLayer) {
   const mesh::Mesh box = repaired(test::box({0, 0, 0}, {40, 30, 20}));
   const auto layers = plan(box, sliced(box, 1.0), ToolpathOptions{});
