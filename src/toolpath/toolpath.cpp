@@ -257,25 +257,45 @@ class LayerPlanner {
   }
 
   // Each of PIECES laid as one bead along its middle (open fill paths marked gap fill; kept over
-  // REST_ON when given), what no bead covers reported as thin with WHAT.
+  // REST_ON when given), what no bead covers reported as thin with WHAT. A branch that the middle
+  // does not follow (the skeleton's side branches, a fin's channel off the loop around a tube's
+  // channel) gets its own bead along its middle, once: what the first beads leave of the piece is
+  // laid as a piece of its own.
   std::vector<Candidate> lay_middles(const std::vector<Polygon>& pieces, const std::string& what, std::vector<ThinRegion>& thin) const {
     const double w = o_.bead_width_mm, min_area = kThinMinAreaBeads2 * w * w;
     std::vector<Candidate> out;
     for (const Polygon& piece : pieces) {
-      std::vector<Ring> lines;
-      if (o_.gap_fill) lines = detail::centre_lines(piece, w, kGapFillMinWidthBeads * w);
-      if (rest_on_ != nullptr && !lines.empty()) lines = detail::lines_within(lines, *rest_on_, w);
+      std::vector<Ring> lines = middles(piece);
       if (lines.empty()) {
         thin.push_back(thin_region(piece, what));
         continue;
       }
-      const auto laid = geom2d::sweep_open(lines, w / 2.0 + kThinSlackMm);
-      for (const Polygon& left : geom2d::difference_rings(geom2d::rings_of({piece}), geom2d::rings_of(laid))) {
+      for (const Polygon& branch : left_by(piece, lines)) {
+        if (geom2d::area_mm2(branch) < min_area) continue;
+        for (Ring& line : middles(branch)) lines.push_back(std::move(line));
+      }
+      for (const Polygon& left : left_by(piece, lines)) {
         if (geom2d::area_mm2(left) >= min_area) thin.push_back(thin_region(left, what));
       }
       for (Ring& line : lines) out.push_back({PathKind::kFill, 0, false, false, false, std::move(line), true});
     }
     return out;
+  }
+
+  // One bead's centre lines along the middle of PIECE, kept over REST_ON when given (none when the
+  // options leave out gap fill).
+  std::vector<Ring> middles(const Polygon& piece) const {
+    const double w = o_.bead_width_mm;
+    std::vector<Ring> lines;
+    if (o_.gap_fill) lines = detail::centre_lines(piece, w, kGapFillMinWidthBeads * w);
+    if (rest_on_ != nullptr && !lines.empty()) lines = detail::lines_within(lines, *rest_on_, w);
+    return lines;
+  }
+
+  // What the beads along LINES leave of PIECE.
+  std::vector<Polygon> left_by(const Polygon& piece, const std::vector<Ring>& lines) const {
+    const auto laid = geom2d::sweep_open(lines, o_.bead_width_mm / 2.0 + kThinSlackMm);
+    return geom2d::difference_rings(geom2d::rings_of({piece}), geom2d::rings_of(laid));
   }
 
   // Islands in greedy order of their nearest entry, and within each its groups in order, each

@@ -485,6 +485,57 @@ TEST(Toolpath, AGapBetweenPerimetersGetsOneBeadAlongItsMiddle) {
   }
 }
 
+TEST(Toolpath, AChannelBranchingOffAnotherGetsItsOwnBead) {
+  // Walls 2.55 mm thick (bead 0.9 mm, two perimeters asked) leave a 0.75 mm channel between the
+  // first perimeter's sides. Where one wall branches off another the channels branch too, and the
+  // branch that the first centre line does not follow gets a bead of its own, to its end: a T (the
+  // skeleton's side branch) and a square tube with a fin (a loop round the tube's channel, with the
+  // fin's channel off it), each turned about Z. Nothing is reported thin.
+  ToolpathOptions o;
+  o.bead_width_mm = 0.9;
+  o.perimeters = 2;
+  const double end_in = 0.9 + 0.375 + 0.05;  // a branch's bead ends a bead and half the channel in, and a little slack
+  struct Case {
+    const char* name;
+    std::vector<std::pair<Vec3, Vec3>> boxes;
+    std::vector<Vec3> ends;  // the channels' ends, each reached by a gap-fill point
+  };
+  const std::vector<Case> cases = {
+      {"T", {{{0, 0, 0}, {30, 2.55, 2}}, {{13.725, 1, 0}, {16.275, 14, 2}}}, {{0, 1.275, 0}, {30, 1.275, 0}, {15, 14, 0}}},
+      {"tube with a fin",
+       {{{0, 0, 0}, {20, 2.55, 2}}, {{0, 17.45, 0}, {20, 20, 2}}, {{0, 0, 0}, {2.55, 20, 2}}, {{17.45, 0, 0}, {20, 20, 2}},
+        {{19, 8.725, 0}, {32, 11.275, 2}}},
+       {{32, 10, 0}}}};
+  for (const Case& k : cases) {
+    for (const double turn_deg : {0.0, 23.0}) {
+      const double c = std::cos(turn_deg * kPi / 180.0), s = std::sin(turn_deg * kPi / 180.0);
+      auto turned = [&](Vec3 p) { return Vec3{c * p.x - s * p.y, s * p.x + c * p.y, p.z}; };
+      io::RawMesh raw;
+      for (const auto& [lo, hi] : k.boxes) raw = test::join(raw, test::box(lo, hi));
+      for (auto& p : raw.points) {
+        const Vec3 q = turned({p[0], p[1], p[2]});
+        p = {q.x, q.y, q.z};
+      }
+      const mesh::Mesh part = repaired(std::move(raw));
+      const auto layers = plan(part, sliced(part, 0.5), o);
+      ASSERT_EQ(layers.size(), 4u) << k.name;
+      for (const auto& l : layers) {
+        EXPECT_TRUE(l.thin.empty()) << k.name << " " << turn_deg << " layer " << l.layer << ": " << l.thin.size() << " thin regions";
+        const auto gap = gap_fill_of(l);
+        for (const Vec3& end : k.ends) {
+          double nearest = INFINITY;
+          for (const Path* p : gap) {
+            for (const PathPoint& q : p->points) {
+              nearest = std::min(nearest, std::hypot(q.position_mm.x - turned(end).x, q.position_mm.y - turned(end).y));
+            }
+          }
+          EXPECT_LE(nearest, end_in) << k.name << " " << turn_deg << " layer " << l.layer << " end (" << end.x << ", " << end.y << ")";
+        }
+      }
+    }
+  }
+}
+
 TEST(Toolpath, GapFillIsLaidOnlyOverTheBeadsOfTheLayerBelow) {
   // A wall 0.8 mm thick (too thin to lay) under 1.5 mm (gap fill): nothing is laid over the unlaid
   // layers, so the upper part is reported too. The other way up, the lower part is laid and the
