@@ -248,20 +248,26 @@ class LayerPlanner {
       // A gap narrower than a gap fill's bead may be is the beads' spread, as the fill leaves it
       // at its edges: neither laid nor reported.
       std::vector<Polygon> gaps = uncovered(inside, next);
-      std::erase_if(gaps, [&](const Polygon& g) { return geom2d::offset({g}, -kGapFillMinWidthBeads * w / 2.0).empty(); });
+      std::erase_if(gaps, [&](const Polygon& g) { return spread(g); });
       std::vector<Candidate> laid =
-          lay_middles(gaps, fmt::format("gap between perimeters narrower than a bead ({} mm): not deposited", w), thin);
+          lay_middles(gaps, fmt::format("gap between perimeters narrower than a bead ({} mm): not deposited", w), thin, true);
       for (Candidate& c : laid) out.push_back(std::move(c));
     }
     return out;
   }
 
+  // Whether all of PIECE, a gap between beads, is narrower than a gap-fill bead may be: the beads'
+  // spread, as the fill leaves it at its edges, neither laid nor reported.
+  bool spread(const Polygon& piece) const { return geom2d::offset({piece}, -kGapFillMinWidthBeads * o_.bead_width_mm / 2.0).empty(); }
+
   // Each of PIECES laid as one bead along its middle (open fill paths marked gap fill; kept over
-  // REST_ON when given), what no bead covers reported as thin with WHAT. A branch that the middle
-  // does not follow (the skeleton's side branches, a fin's channel off the loop around a tube's
-  // channel) gets its own bead along its middle, once: what the first beads leave of the piece is
-  // laid as a piece of its own.
-  std::vector<Candidate> lay_middles(const std::vector<Polygon>& pieces, const std::string& what, std::vector<ThinRegion>& thin) const {
+  // REST_ON when given), what no bead covers reported as thin with WHAT (but for the beads' spread
+  // when BETWEEN_BEADS: a gap between perimeters narrows to it where a wall's thickness does).
+  // A branch that the middle does not follow (the skeleton's side branches, a fin's channel off
+  // the loop around a tube's channel) gets its own bead along its middle, once: what the first
+  // beads leave of the piece is laid as a piece of its own.
+  std::vector<Candidate> lay_middles(const std::vector<Polygon>& pieces, const std::string& what, std::vector<ThinRegion>& thin,
+                                     bool between_beads = false) const {
     const double w = o_.bead_width_mm, min_area = kThinMinAreaBeads2 * w * w;
     std::vector<Candidate> out;
     for (const Polygon& piece : pieces) {
@@ -275,7 +281,7 @@ class LayerPlanner {
         for (Ring& line : middles(branch)) lines.push_back(std::move(line));
       }
       for (const Polygon& left : left_by(piece, lines)) {
-        if (geom2d::area_mm2(left) >= min_area) thin.push_back(thin_region(left, what));
+        if (geom2d::area_mm2(left) >= min_area && !(between_beads && spread(left))) thin.push_back(thin_region(left, what));
       }
       for (Ring& line : lines) out.push_back({PathKind::kFill, 0, false, false, false, std::move(line), true});
     }

@@ -536,6 +536,62 @@ TEST(Toolpath, AChannelBranchingOffAnotherGetsItsOwnBead) {
   }
 }
 
+// A round tube (radii R_OUT, R_IN, N sides) LENGTH long, turned LEAN_DEG about Y from standing
+// upright (its horizontal sections are elliptic annuli, their walls 1/cos(LEAN_DEG) thicker along X).
+mesh::Mesh leaning_tube(double r_out, double r_in, double length, double lean_deg, std::uint32_t n) {
+  io::RawMesh m;
+  const double c = std::cos(lean_deg * kPi / 180.0), s = std::sin(lean_deg * kPi / 180.0);
+  for (const double z : {0.0, length}) {
+    for (const double r : {r_out, r_in}) {
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const double a = 2.0 * kPi * i / n, x = r * std::cos(a);
+        m.points.push_back({c * x + s * z, r * std::sin(a), -s * x + c * z});
+      }
+    }
+  }
+  auto at = [&](std::uint32_t level, std::uint32_t ring, std::uint32_t i) { return (2 * level + ring) * n + i % n; };
+  for (std::uint32_t i = 0; i < n; ++i) {
+    m.triangles.push_back({at(0, 0, i), at(0, 0, i + 1), at(1, 0, i + 1)});  // outer wall
+    m.triangles.push_back({at(0, 0, i), at(1, 0, i + 1), at(1, 0, i)});
+    m.triangles.push_back({at(0, 1, i), at(1, 1, i + 1), at(0, 1, i + 1)});  // inner wall, facing the axis
+    m.triangles.push_back({at(0, 1, i), at(1, 1, i), at(1, 1, i + 1)});
+    m.triangles.push_back({at(0, 0, i), at(0, 1, i + 1), at(0, 0, i + 1)});  // bottom
+    m.triangles.push_back({at(0, 0, i), at(0, 1, i), at(0, 1, i + 1)});
+    m.triangles.push_back({at(1, 0, i), at(1, 0, i + 1), at(1, 1, i + 1)});  // top
+    m.triangles.push_back({at(1, 0, i), at(1, 1, i + 1), at(1, 1, i)});
+  }
+  return repaired(std::move(m));
+}
+
+TEST(Toolpath, AGapBetweenPerimetersNarrowingToTheBeadsSpreadIsNotReported) {
+  // A tube with 2.2 mm walls leaning 30° (bead 0.9 mm, two perimeters): where its sections are
+  // whole annuli their walls are 2.54 mm thick front and back and 2.2 mm at the sides, so the first
+  // perimeter's sides leave a channel 0.74 mm wide front and back that narrows to 0.4 mm at the
+  // sides, less than a gap-fill bead (half a bead): the beads' spread there, as in a wall that
+  // thin all round. The channel gets its beads front and back, and no thin region is reported there.
+  ToolpathOptions o;
+  o.bead_width_mm = 0.9;
+  o.perimeters = 2;
+  o.max_step_mm = 0.45;  // each layer's channel is 0.29 mm from the one below
+  for (const std::uint32_t sides : {96u, 61u}) {
+    const mesh::Mesh tube = leaning_tube(8.0, 5.8, 20.0, 30.0, sides);
+    const auto s = sliced(tube, 0.5);
+    const auto layers = plan(tube, s, o);
+    ASSERT_EQ(layers.size(), s.layers.size());
+    double lowest = INFINITY;
+    for (const Vec3& v : tube.vertices) lowest = std::min(lowest, v.z);
+    std::size_t whole = 0;
+    for (std::size_t k = 0; k < layers.size(); ++k) {
+      const double z = s.layers[k].frame.origin.z - lowest;
+      if (z < 8.0 + 0.5 || z > 20.0 * std::cos(kPi / 6.0) - 0.5) continue;  // a whole annulus: from 2·8·sin 30° up to 20·cos 30°
+      ++whole;
+      EXPECT_TRUE(layers[k].thin.empty()) << sides << " sides, layer " << k << ": " << layers[k].thin.size() << " thin regions";
+      EXPECT_EQ(gap_fill_of(layers[k]).size(), 2u) << sides << " sides, layer " << k;
+    }
+    EXPECT_GE(whole, 15u);
+  }
+}
+
 TEST(Toolpath, GapFillIsLaidOnlyOverTheBeadsOfTheLayerBelow) {
   // A wall 0.8 mm thick (too thin to lay) under 1.5 mm (gap fill): nothing is laid over the unlaid
   // layers, so the upper part is reported too. The other way up, the lower part is laid and the
