@@ -85,12 +85,23 @@ SurfaceDistance::~SurfaceDistance() = default;
 bool SurfaceDistance::empty() const { return impl_->triangles.empty(); }
 
 Nearest SurfaceDistance::nearest(Vec3 p) const {
-  const Impl& m = *impl_;
   const K::Point_3 q(p.x, p.y, p.z);
-  const auto [point, primitive] = m.tree.closest_point_and_primitive(q);
-  const auto i = static_cast<std::size_t>(primitive - m.triangles.cbegin());
+  const auto [point, primitive] = impl_->tree.closest_point_and_primitive(q);
+  return described(p, {point.x(), point.y(), point.z()}, static_cast<std::size_t>(primitive - impl_->triangles.cbegin()));
+}
+
+Nearest SurfaceDistance::nearest(Vec3 p, const Nearest& near) const {
+  const K::Point_3 q(p.x, p.y, p.z);
+  const Tree::Point_and_primitive_id hint(K::Point_3(near.point.x, near.point.y, near.point.z), impl_->triangles.cbegin() + near.face);
+  const auto [point, primitive] = impl_->tree.closest_point_and_primitive(q, hint);
+  return described(p, {point.x(), point.y(), point.z()}, static_cast<std::size_t>(primitive - impl_->triangles.cbegin()));
+}
+
+Nearest SurfaceDistance::described(Vec3 p, Vec3 point, std::size_t i) const {
+  const Impl& m = *impl_;
   Nearest out;
-  out.point = {point.x(), point.y(), point.z()};
+  out.face = static_cast<std::uint32_t>(i);
+  out.point = point;
   // Barycentric coordinates of the nearest point: which feature it lies on.
   const Triangle3& t = m.triangles[i];
   const Vec3 a{t[0].x(), t[0].y(), t[0].z()}, b{t[1].x(), t[1].y(), t[1].z()}, c{t[2].x(), t[2].y(), t[2].z()};

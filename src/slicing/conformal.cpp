@@ -28,11 +28,14 @@ constexpr double kSpanGridMinMm = 0.5;  // and cells no smaller than this
 
 }  // namespace
 
-std::optional<Lifted> lift(const mesh::SurfaceDistance& base, Vec3 d, double level, Vec3 p, double s) {
+std::optional<Lifted> lift(const mesh::SurfaceDistance& base, Vec3 d, double level, Vec3 p, double s, std::optional<mesh::Nearest>* near) {
   double lo = -INFINITY, hi = INFINITY;  // s below the level, s above it
+  std::optional<mesh::Nearest> own;       // the step before's answer: the search starts from it
+  std::optional<mesh::Nearest>& before = near != nullptr ? *near : own;
   for (int it = 0; it < kLiftIterations; ++it) {
     const Vec3 at = p + d * s;
-    const mesh::Nearest n = base.nearest(at);
+    const mesh::Nearest n = before ? base.nearest(at, *before) : base.nearest(at);
+    before = n;
     const double away = core::norm(at - n.point);
     const Vec3 g = away > 1e-9 ? (at - n.point) / (n.signed_mm < 0.0 ? -away : away) : n.normal;
     const double r = n.signed_mm - level, rise = core::dot(g, d);
@@ -48,10 +51,10 @@ std::optional<Lifted> lift(const mesh::SurfaceDistance& base, Vec3 d, double lev
   return std::nullopt;
 }
 
-std::optional<Lifted> lift(const mesh::SurfaceDistance& base, const Layer& layer, Vec3 p) {
+std::optional<Lifted> lift(const mesh::SurfaceDistance& base, const Layer& layer, Vec3 p, std::optional<mesh::Nearest>* near) {
   if (!layer.conformal) return std::nullopt;
   const Vec3 d = layer.frame.d;
-  return lift(base, d, layer.conformal->level_mm, p, layer.height_mm - core::dot(p, d));
+  return lift(base, d, layer.conformal->level_mm, p, layer.height_mm - core::dot(p, d), near);
 }
 
 std::optional<mesh::Mesh> refined_for_levels(const mesh::Mesh& mesh, const mesh::SurfaceDistance& base, double min_edge_mm) {

@@ -49,12 +49,13 @@ SurfaceWarp::SurfaceWarp(const mesh::SurfaceDistance& base, const slicing::Layer
   for (int j = 0; j < kWarpRays; ++j) {
     const double a = kTwoPi * j / kWarpRays, cu = std::cos(a), cv = std::sin(a);
     double height = NAN, along = 0.0;
+    std::optional<mesh::Nearest> near;  // the sample before's: the distance queries start from it
     for (std::size_t i = 0; i < samples; ++i) {
       const double r = step_ * static_cast<double>(i);
       const Vec3 p = layer.frame.to_world(cu_ + r * cu, cv_ + r * cv);
       // Searched from the previous sample's height: a step or two of Newton.
       const double from = std::isnan(height) ? layer.height_mm : height;
-      const auto l = slicing::lift(base, d, layer.conformal->level_mm, p, from - core::dot(p, d));
+      const auto l = slicing::lift(base, d, layer.conformal->level_mm, p, from - core::dot(p, d), &near);
       const double h = l ? core::dot(l->point, d) : height;
       if (i > 0) along += std::isnan(h) || std::isnan(height) ? step_ : std::hypot(step_, h - height);
       if (!std::isnan(h)) height = h;
@@ -134,10 +135,11 @@ std::string drape(const mesh::SurfaceDistance& base, const slicing::Layer& layer
   for (Path& path : lt.paths) {
     path.points = densified(path.points, step_mm);
     std::vector<char> lifted(path.points.size(), 0);
+    std::optional<mesh::Nearest> near;  // the point before's: the distance queries start from it
     for (std::size_t i = 0; i < path.points.size(); ++i) {
       PathPoint& p = path.points[i];
       p.position_mm = unwarped(p.position_mm);
-      if (const auto l = slicing::lift(base, layer, p.position_mm)) {
+      if (const auto l = slicing::lift(base, layer, p.position_mm, &near)) {
         p.position_mm = l->point, p.tool_axis = l->axis, lifted[i] = 1;
       } else if (path.kind != PathKind::kTravel) {
         return fmt::format("conformal layer {}: the path point ({:.2f}, {:.2f}, {:.2f}) cannot be carried onto the layer's surface", layer.index,

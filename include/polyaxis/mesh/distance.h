@@ -2,6 +2,7 @@
 // mesh's corners follow a curved base: what conformal layers (slicing/conformal.h) are made of.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <memory>
@@ -20,6 +21,7 @@ struct Nearest {
   Vec3 point;
   double signed_mm = 0.0;
   Vec3 normal{0, 0, 1};  // unit, the pseudonormal at POINT
+  std::uint32_t face = 0;  // the surface's triangle POINT lies on (one of them on an edge or a vertex)
 };
 
 // An AABB tree (CGAL) over the triangles of a surface, built once; queries are thread-safe.
@@ -34,8 +36,16 @@ class SurfaceDistance {
   bool empty() const;
   // Precondition: !empty(). Cost: O(log F) on average.
   Nearest nearest(Vec3 p) const;
+  // The same, starting the search from NEAR, the answer for a point close to P (the step before of
+  // an iteration, the point before along a path): the tree is searched within the distance to it
+  // rather than from the surface's nearest vertex, which on long thin triangles (a turned part's
+  // sides) lies far from the nearest point. NEAR: a result of this surface's nearest().
+  Nearest nearest(Vec3 p, const Nearest& near) const;
 
  private:
+  // The answer for P whose nearest point POINT lies on triangle FACE: its feature's pseudonormal, the sign.
+  Nearest described(Vec3 p, Vec3 point, std::size_t face) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -49,10 +49,14 @@ struct Lifted {
 // of r/rise with rise <= 1 never falls short, and a bracket catches overshoots). Nullopt where the
 // line does not meet the level within reach or meets it where the gradient rises less than kMinRise
 // along D (the level is no height field over the plane normal to D there).
-std::optional<Lifted> lift(const mesh::SurfaceDistance& base, Vec3 d, double level_mm, Vec3 p, double s0_mm = 0.0);
+// NEAR, when given, holds the answer of BASE's last distance query near P (a lift of the point
+// before along a path or a ray): the queries start from it (mesh::SurfaceDistance::nearest), and it
+// is left holding this lift's last.
+std::optional<Lifted> lift(const mesh::SurfaceDistance& base, Vec3 d, double level_mm, Vec3 p, double s0_mm = 0.0,
+                           std::optional<mesh::Nearest>* near = nullptr);
 
 // The same for a conformal layer (Layer::conformal set): P is any point, lifted along the layer's
 // frame normal onto its mid-surface, searched from the layer's height.
-std::optional<Lifted> lift(const mesh::SurfaceDistance& base, const Layer& layer, Vec3 p);
+std::optional<Lifted> lift(const mesh::SurfaceDistance& base, const Layer& layer, Vec3 p, std::optional<mesh::Nearest>* near = nullptr);
 
 }  // namespace polyaxis::slicing

@@ -59,6 +59,30 @@ TEST(SurfaceDistance, SignAgreesWithTheWindingNumberAroundEdgesAndVertices) {
   }
 }
 
+// A search started from the answer for a nearby point (a walk along a path, the steps of an
+// iteration) finds the same nearest point and signed distance as one from scratch, however far the
+// hint's point lies, on long thin triangles (a frustum's sides) as on a box and a cap.
+TEST(SurfaceDistance, ASearchFromANearbyAnswerFindsTheSame) {
+  for (const auto& raw : {test::frustum(28, 50, 75, 128), test::box({0, 0, 0}, {10, 20, 10}), test::spherical_cap(20, 8, 12, 4)}) {
+    const Mesh m = repaired(raw);
+    const SurfaceDistance d(m);
+    std::uint64_t state = 777;
+    auto next = [&] {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(state >> 11) / 9007199254740992.0;
+    };
+    Nearest before = d.nearest({0, 0, 0});
+    for (int i = 0; i < 2000; ++i) {
+      const Vec3 p{-70 + 140 * next(), -70 + 140 * next(), -20 + 110 * next()};
+      const Nearest fresh = d.nearest(p), hinted = d.nearest(p, before);
+      EXPECT_NEAR(hinted.signed_mm, fresh.signed_mm, 1e-9) << i;
+      EXPECT_NEAR(core::norm(hinted.point - fresh.point), 0.0, 1e-9) << i;
+      EXPECT_GT(core::dot(hinted.normal, fresh.normal), 1.0 - 1e-9) << i;
+      before = i % 2 == 0 ? hinted : d.nearest(p + Vec3{0.3, -0.2, 0.1});  // the next query is far from it, or near
+    }
+  }
+}
+
 TEST(Refine, EveryEdgeShortClosedOrientedVolumeKept) {
   for (const double limit : {0.7, 2.5}) {
     for (const auto& raw : {test::box({0, 0, 0}, {10, 3, 7}), test::cylinder({1, 2, 3}, {0.2, 0.1, 1}, 4, 15, 12), test::spherical_cap(20, 8, 24, 6)}) {
