@@ -15,6 +15,16 @@ namespace {
 
 Mesh repaired(io::RawMesh raw) { return test::repaired(std::move(raw)).mesh; }
 
+// Uniform numbers in [0, 1) from a seed (a 64-bit LCG: the same sequence everywhere).
+struct Uniform {
+  std::uint64_t state;
+  explicit Uniform(std::uint64_t seed) : state(seed) {}
+  double operator()() {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  }
+};
+
 TEST(SurfaceDistance, SignedDistanceAndNearestPointOfABox) {
   const Mesh box = repaired(test::box({0, 0, 0}, {10, 20, 10}));
   const SurfaceDistance d(box);
@@ -37,11 +47,7 @@ TEST(SurfaceDistance, SignAgreesWithTheWindingNumberAroundEdgesAndVertices) {
   for (const auto& raw : {test::frustum(28, 50, 75, 16), test::box({0, 0, 0}, {10, 20, 10}), test::spherical_cap(20, 8, 12, 4)}) {
     const Mesh m = repaired(raw);
     const SurfaceDistance d(m);
-    std::uint64_t state = 12345;
-    auto next = [&] {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(state >> 11) / 9007199254740992.0;
-    };
+    Uniform next(12345);
     int wrong = 0, n = 0;
     for (int i = 0; i < 3000; ++i) {
       Vec3 p{-80 + 160 * next(), -80 + 160 * next(), -20 + 120 * next()};
@@ -66,11 +72,7 @@ TEST(SurfaceDistance, ASearchFromANearbyAnswerFindsTheSame) {
   for (const auto& raw : {test::frustum(28, 50, 75, 128), test::box({0, 0, 0}, {10, 20, 10}), test::spherical_cap(20, 8, 12, 4)}) {
     const Mesh m = repaired(raw);
     const SurfaceDistance d(m);
-    std::uint64_t state = 777;
-    auto next = [&] {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(state >> 11) / 9007199254740992.0;
-    };
+    Uniform next(777);
     Nearest before = d.nearest({0, 0, 0});
     for (int i = 0; i < 2000; ++i) {
       const Vec3 p{-70 + 140 * next(), -70 + 140 * next(), -20 + 110 * next()};
