@@ -276,12 +276,15 @@ class LayerPlanner {
         thin.push_back(thin_region(piece, what));
         continue;
       }
-      for (const Polygon& branch : left_by(piece, lines)) {
+      std::vector<Polygon> left = left_by(piece, lines);
+      const std::size_t first_lines = lines.size();
+      for (const Polygon& branch : left) {
         if (geom2d::area_mm2(branch) < min_area) continue;
         for (Ring& line : middles(branch)) lines.push_back(std::move(line));
       }
-      for (const Polygon& left : left_by(piece, lines)) {
-        if (geom2d::area_mm2(left) >= min_area && !(between_beads && spread(left))) thin.push_back(thin_region(left, what));
+      if (lines.size() > first_lines) left = left_by(piece, lines);
+      for (const Polygon& bare : left) {
+        if (geom2d::area_mm2(bare) >= min_area && !(between_beads && spread(bare))) thin.push_back(thin_region(bare, what));
       }
       for (Ring& line : lines) out.push_back({PathKind::kFill, 0, false, false, false, std::move(line), true});
     }
