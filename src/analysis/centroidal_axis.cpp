@@ -73,6 +73,7 @@ constexpr double kMinOverlapAreaMm2 = 1e-3; // loops overlapping by less do not 
 constexpr double kFeatureFaceDeg = 20.0;    // face normal within this of an axis: a feature height
 constexpr double kCoverGrowFactor = 0.5;   // branch bodies grown sideways by this × inc (add_prism)
 constexpr int kThicknessSamples = 8;        // sections along the start direction for 2A/P
+constexpr double kMaxFeatureCells = 256.0;  // cells along each side of join_features' grid, at most
 constexpr int kMaxDepth = 32;               // nesting of branch sweeps; deeper pieces continue
 constexpr double kPi = 3.14159265358979323846;
 
@@ -293,6 +294,96 @@ struct Seed {
   Intervals along;        // world units along line_axis
 };
 
+// A face whose normal lies within kFeatureFaceDeg of an axis: its heights along the axis and its
+// box across it. Joined with others, a feature.
+struct Feature {
+  double lo, hi;
+  double b0, b1, c0, c1;  // box across the axis
+};
+
+// Whether the boxes across the axis of X and Y come within NEAR of each other.
+bool touches_across(const Feature& x, const Feature& y, double near) {
+  return x.b0 <= y.b1 + near && y.b0 <= x.b1 + near && x.c0 <= y.c1 + near && y.c0 <= x.c1 + near;
+}
+
+// FACES (sorted by lo) joined into features: faces that overlap in height (within NEAR) and across
+// (touches_across), transitively; each feature the union of its faces' spans, in the order of its
+// first face. Pairs are looked for only among the faces of one cell of a grid across the axis (a
+// face in every cell its box grown by NEAR / 2 meets, so any two that touch share one): faces
+// far apart across are never compared, as the flat top and bottom of a ring, each thousands of
+// facets at one height, would be pair by pair. Deterministic.
+std::vector<Feature> join_features(const std::vector<Feature>& faces, double near) {
+  std::vector<std::size_t> parent(faces.size());
+  std::iota(parent.begin(), parent.end(), std::size_t{0});
+  auto find = [&](std::size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  if (!faces.empty()) {
+    double b0 = INFINITY, b1 = -INFINITY, c0 = INFINITY, c1 = -INFINITY;
+    for (const Feature& f : faces) b0 = std::min(b0, f.b0), b1 = std::max(b1, f.b1), c0 = std::min(c0, f.c0), c1 = std::max(c1, f.c1);
+    const auto side = static_cast<std::int64_t>(std::clamp(std::sqrt(static_cast<double>(faces.size())), 1.0, kMaxFeatureCells));
+    const double cell_b = std::max((b1 - b0 + near) / static_cast<double>(side), 1e-9), cell_c = std::max((c1 - c0 + near) / static_cast<double>(side), 1e-9);
+    auto cell = [&](double x, double lo, double size) { return std::clamp(static_cast<std::int64_t>(std::floor((x - lo) / size)), std::int64_t{0}, side - 1); };
+    std::vector<std::vector<std::size_t>> cells(static_cast<std::size_t>(side * side));
+    for (std::size_t i = 0; i < faces.size(); ++i) {  // in order: each cell's faces sorted by lo
+      const Feature& f = faces[i];
+      const std::int64_t i0 = cell(f.b0 - near / 2, b0 - near / 2, cell_b), i1 = cell(f.b1 + near / 2, b0 - near / 2, cell_b);
+      const std::int64_t j0 = cell(f.c0 - near / 2, c0 - near / 2, cell_c), j1 = cell(f.c1 + near / 2, c0 - near / 2, cell_c);
+      for (std::int64_t u = i0; u <= i1; ++u) {
+        for (std::int64_t v = j0; v <= j1; ++v) cells[static_cast<std::size_t>(u * side + v)].push_back(i);
+      }
+    }
+    for (const std::vector<std::size_t>& in : cells) {
+      for (std::size_t x = 0; x < in.size(); ++x) {
+        for (std::size_t y = x + 1; y < in.size() && faces[in[y]].lo < faces[in[x]].hi + near; ++y) {
+          if (touches_across(faces[in[x]], faces[in[y]], near)) parent[find(in[y])] = find(in[x]);
+        }
+      }
+    }
+  }
+  std::vector<Feature> features;
+  std::vector<std::size_t> slot(faces.size(), SIZE_MAX);
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const std::size_t r = find(i);
+    if (slot[r] == SIZE_MAX) {
+      slot[r] = features.size();
+      features.push_back(faces[i]);
+      continue;
+    }
+    Feature& g = features[slot[r]];
+    const Feature& f = faces[i];
+    g.lo = std::min(g.lo, f.lo), g.hi = std::max(g.hi, f.hi);
+    g.b0 = std::min(g.b0, f.b0), g.b1 = std::max(g.b1, f.b1), g.c0 = std::min(g.c0, f.c0), g.c1 = std::max(g.c1, f.c1);
+  }
+  return features;
+}
+
+// The least gap along axis A (0, 1, 2) of at least NEAR between two features of M that face each
+// other across it (their boxes touch across); infinite when there is none.
+double feature_gap(const mesh::Mesh& m, int a, double near) {
+  const int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
+  const double feature_cos = std::cos(kFeatureFaceDeg * kPi / 180.0);
+  std::vector<Feature> faces;
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+    const Vec3 n = core::normalized(mesh::face_area_vector(m, f));
+    if (std::fabs(n[a]) < feature_cos) continue;
+    const Vec3 p0 = m.corner(f, 0), p1 = m.corner(f, 1), p2 = m.corner(f, 2);
+    faces.push_back({std::min({p0[a], p1[a], p2[a]}), std::max({p0[a], p1[a], p2[a]}), std::min({p0[b], p1[b], p2[b]}),
+                     std::max({p0[b], p1[b], p2[b]}), std::min({p0[c], p1[c], p2[c]}), std::max({p0[c], p1[c], p2[c]})});
+  }
+  std::sort(faces.begin(), faces.end(), [](const Feature& x, const Feature& y) { return x.lo < y.lo; });
+  const std::vector<Feature> features = join_features(faces, near);
+  double gap = INFINITY;
+  for (const Feature& x : features) {
+    for (const Feature& y : features) {
+      const double g = y.lo - x.hi;
+      if (g >= near && g < gap && touches_across(x, y, near)) gap = g;
+    }
+  }
+  return gap;
+}
+
 class Engine {
  public:
   Engine(const mesh::Mesh& mesh, const mesh::EdgeTopology& topology, const CentroidalAxisOptions& options)
@@ -367,59 +458,7 @@ double Engine::estimate_increment(int start_k) {
   // box of its faces across the axis. Two features are a gap only where those boxes overlap:
   // surfaces that do not face each other are not "two surfaces" of Ruan's definition.
   double gap = INFINITY;
-  const double feature_cos = std::cos(kFeatureFaceDeg * kPi / 180.0);
-  struct Feature {
-    double lo, hi;
-    double b0, b1, c0, c1;  // box across the axis
-  };
-  for (int a = 0; a < 3; ++a) {
-    const int b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
-    std::vector<Feature> faces;
-    for (std::size_t f = 0; f < mesh_.triangles.size(); ++f) {
-      const Vec3 n = core::normalized(mesh::face_area_vector(mesh_, f));
-      if (std::fabs(n[a]) < feature_cos) continue;
-      const Vec3 p0 = mesh_.corner(f, 0), p1 = mesh_.corner(f, 1), p2 = mesh_.corner(f, 2);
-      faces.push_back({std::min({p0[a], p1[a], p2[a]}), std::max({p0[a], p1[a], p2[a]}), std::min({p0[b], p1[b], p2[b]}),
-                       std::max({p0[b], p1[b], p2[b]}), std::min({p0[c], p1[c], p2[c]}), std::max({p0[c], p1[c], p2[c]})});
-    }
-    std::sort(faces.begin(), faces.end(), [](const Feature& x, const Feature& y) { return x.lo < y.lo; });
-    // One feature: faces that overlap both in height (closer than min_increment_mm) and across.
-    const double near = options_.min_increment_mm;
-    auto touches = [&](const Feature& x, const Feature& y) {
-      return x.b0 <= y.b1 + near && y.b0 <= x.b1 + near && x.c0 <= y.c1 + near && y.c0 <= x.c1 + near;
-    };
-    std::vector<std::size_t> parent(faces.size());
-    std::iota(parent.begin(), parent.end(), std::size_t{0});
-    auto find = [&](std::size_t i) {
-      while (parent[i] != i) i = parent[i] = parent[parent[i]];
-      return i;
-    };
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-      for (std::size_t j = i + 1; j < faces.size() && faces[j].lo < faces[i].hi + near; ++j) {
-        if (touches(faces[i], faces[j])) parent[find(j)] = find(i);
-      }
-    }
-    std::vector<Feature> features;
-    std::vector<std::size_t> slot(faces.size(), SIZE_MAX);
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-      const std::size_t r = find(i);
-      if (slot[r] == SIZE_MAX) {
-        slot[r] = features.size();
-        features.push_back(faces[i]);
-        continue;
-      }
-      Feature& g = features[slot[r]];
-      const Feature& f = faces[i];
-      g.lo = std::min(g.lo, f.lo), g.hi = std::max(g.hi, f.hi);
-      g.b0 = std::min(g.b0, f.b0), g.b1 = std::max(g.b1, f.b1), g.c0 = std::min(g.c0, f.c0), g.c1 = std::max(g.c1, f.c1);
-    }
-    for (const Feature& x : features) {
-      for (const Feature& y : features) {
-        const double g = y.lo - x.hi;
-        if (g >= options_.min_increment_mm && g < gap && touches(x, y)) gap = g;
-      }
-    }
-  }
+  for (int a = 0; a < 3; ++a) gap = std::min(gap, feature_gap(mesh_, a, options_.min_increment_mm));
   // (b) the thinnest strip among sections along the start direction.
   double strip = INFINITY;
   const slicing::SectionContext context(mesh_, major(start_k), &topology_);

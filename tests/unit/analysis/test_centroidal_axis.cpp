@@ -391,6 +391,19 @@ TEST(CentroidalAxis, IncrementIsClampedToTheOptions) {
   EXPECT_NEAR(a.nodes[root->nodes[1]].position.z - a.nodes[root->nodes[0]].position.z, 2.5, 1e-9);
 }
 
+TEST(CentroidalAxis, IncrementIsTheGapBetweenFlatFeaturesFacingEachOtherHoweverFinelyTessellated) {
+  // A spool: flanges 4 mm thick (r 20) on a core r 8, a bore r 3; the flanges' facing sides 3 mm
+  // apart. Each flat annulus is a thousand facets at one height at the finest tessellation (the
+  // feature search compares only facets near each other across), and the increment is the gap
+  // at every tessellation, as the flanges (4 mm) and the core's strip (5 mm) are wider.
+  for (const std::uint32_t sides : {24u, 120u, 600u}) {
+    const auto m = polyaxis::test::repaired(polyaxis::test::revolve({{20, 0}, {20, 4}, {8, 4}, {8, 7}, {20, 7}, {20, 11}}, sides, 3.0));
+    CentroidalAxisOptions o;
+    o.max_increment_mm = 10.0;
+    EXPECT_NEAR(axis_of(m, o).increment_mm, 3.0, 1e-9) << sides << " sides";
+  }
+}
+
 TEST(CentroidalAxis, BadOptionsAndOpenMeshesAreErrors) {
   const auto m = part("l_block");
   CentroidalAxisOptions o;
