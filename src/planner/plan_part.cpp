@@ -72,9 +72,6 @@ struct Candidate {
   std::optional<analysis::CentroidalAxis> axis;
   Strategy strategy = Strategy::kSingle;
   std::vector<std::string> warnings;
-  // A decomposition whose root stands on the part's lowest point along its direction: rooting it
-  // there explicitly (RootBase::kLowest) would give the same tree.
-  bool root_at_lowest = false;
   // A decomposition's regions and options as make_plan took them (part frame, no stop flag): its
   // regions can be planned again along other directions (redirected).
   std::vector<PlanRegion> regions;
@@ -352,10 +349,13 @@ core::Status mark_prebuilt(std::vector<PlanRegion>& regions, const PlanPartOptio
 }
 
 // STOP: set by another thread when the candidate is no longer wanted (it then ends early with an
-// error that nobody reads); null when it always is.
+// error that nobody reads); null when it always is. ROOT_AT_LOWEST (when given) is set once the tree
+// is made, whether a plan follows or not: true when its root stands on the part's lowest point along
+// its direction, so that rooting it there explicitly (RootBase::kLowest) would give the same tree.
 core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                         const process::ProcessConfig& process, const PlanPartOptions& o,
-                                        const analysis::RootBase& root_base, PartMemo& memo, const std::atomic<bool>* stop = nullptr) {
+                                        const analysis::RootBase& root_base, PartMemo& memo, const std::atomic<bool>* stop = nullptr,
+                                        bool* root_at_lowest = nullptr) {
   // The decomposition's exact cuts (CGAL corefinement) need a solid whose surface does not cross
   // itself. A few crossing faces, where a part's pieces were fused imperfectly (two_branches: 16
   // of 6 744), are cut through where the plane misses them; a surface where many cross is a pile of
@@ -382,18 +382,18 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
   if (!tree) return tree.error();
   if (stop != nullptr && stop->load()) return core::make_error(core::ErrorCode::kInfeasible, "not wanted any more");
+  if (root_at_lowest != nullptr) {
+    const analysis::Region& root = tree.value().regions.front();
+    const Vec3 up = core::normalized(root.build_direction);
+    double lowest = INFINITY;
+    for (const Vec3& v : part.mesh.vertices) lowest = std::min(lowest, core::dot(v, up));
+    *root_at_lowest = core::dot(root.base_point, up) - lowest <= kSameBaseMm;
+  }
   if (o.strategy == Strategy::kAuto && tree.value().regions.size() < 2) {
     return core::make_error(core::ErrorCode::kInfeasible, "it finds the part one region: nothing to split");
   }
   Candidate c;
   c.strategy = Strategy::kDecompose;
-  {
-    const analysis::Region& root = tree.value().regions.front();
-    const Vec3 up = core::normalized(root.build_direction);
-    double lowest = INFINITY;
-    for (const Vec3& v : part.mesh.vertices) lowest = std::min(lowest, core::dot(v, up));
-    c.root_at_lowest = core::dot(root.base_point, up) - lowest <= kSameBaseMm;
-  }
   if (dopt.reach_deg < 180.0) {
     double left = 0.0;
     for (const analysis::Region& r : tree.value().regions) left += r.support_free ? 0.0 : r.unsupported_area_mm2;
@@ -573,10 +573,11 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
       },
       [&] {
         const core::ProgressScope scope(progress);
-        make(kDecomposition, [&](auto stop) { return plan_decomposed(part, machine, process, o, o.root_base, memo, stop); });
+        bool at_lowest = false;
+        make(kDecomposition, [&](auto stop) { return plan_decomposed(part, machine, process, o, o.root_base, memo, stop, &at_lowest); });
         if (!may_turn_over) return;
-        // Rooted at the lowest point it would give the same tree as the decomposition rooted there.
-        const bool at_lowest = made[kDecomposition] && made[kDecomposition]->ok() && made[kDecomposition]->value().root_at_lowest;
+        // Rooted at the lowest point it would give the same tree, and the same plan or refusal, as the
+        // decomposition rooted there.
         if (!at_lowest) make(kFromLowest, [&](auto stop) { return plan_decomposed(part, machine, process, o, lowest, memo, stop); });
         make(kDecompositionTurnedOver, [&](auto stop) { return plan_decomposed(part, machine, process, over, o.root_base, memo, stop); });
       });

@@ -189,5 +189,24 @@ TEST(Sequence, WallsFartherApartThanTheHeadIsWideAreEachBuiltToTheirEnd) {
   EXPECT_EQ(far.check.material_collisions, 0u);
 }
 
+// Auto's choice makes the decomposition rooted at the part's lowest point only when the one rooted
+// as found stands elsewhere (it would be the same tree), whether that one plans or not: a ring
+// lying flat (its root at its lowest point, one region) is decomposed once each way up, a table
+// on four legs (rooted at the top's underside, above its feet) from its lowest point too.
+TEST(AutoChoice, TheDecompositionFromTheLowestPointIsMadeOnlyWhereItsRootDiffers) {
+  PlanPartOptions o;
+  auto ring = plan_part(test::repaired(test::torus(20.0, 5.0, 48, 24)), test::example_machine("ded5_ac"), test::default_process(), o);
+  ASSERT_TRUE(ring.ok()) << ring.error().message;
+  EXPECT_NE(ring.value().choice.find("the decomposition: it finds the part one region"), std::string::npos) << ring.value().choice;
+  EXPECT_EQ(ring.value().choice.find("from the lowest point"), std::string::npos) << ring.value().choice;
+  io::RawMesh table = box({0, 0, 12}, {30, 30, 15});
+  for (const double x : {0.0, 25.0}) {
+    for (const double y : {0.0, 25.0}) table = test::join(std::move(table), box({x, y, 0}, {x + 5, y + 5, 12}));
+  }
+  auto legs = plan_part(test::repaired(table), test::example_machine("ded5_ac"), test::default_process(), o);
+  ASSERT_TRUE(legs.ok()) << legs.error().message;
+  EXPECT_NE(legs.value().choice.find("from the lowest point"), std::string::npos) << legs.value().choice;
+}
+
 }  // namespace
 }  // namespace polyaxis::planner
