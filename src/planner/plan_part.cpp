@@ -534,7 +534,7 @@ std::optional<Vec3> side_direction(const mesh::Mesh& m, Vec3 up, const process::
 }
 
 // The automatic choice. The candidates are made in two lanes side by side (the directions in one,
-// the decompositions in the other), and a candidate is stopped once one before it is support-free:
+// the decompositions in the other, the part turned over in the one free first), and a candidate is stopped once one before it is support-free:
 // the choice is the one made taking them one after the other, in less time.
 core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                     const process::ProcessConfig& process, const PlanPartOptions& o, PartMemo& memo, std::string& why) {
@@ -558,12 +558,19 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
     }
   };
   const auto progress = core::ProgressScope::current();  // each lane may run on a worker thread
+  // The part turned over, one direction: made by the lane that is free first.
+  std::atomic<bool> turned_over_taken{false};
+  auto turned_over = [&] {
+    if (may_turn_over && !turned_over_taken.exchange(true)) {
+      make(kOneTurnedOver, [&](auto stop) { return plan_single(part, machine, process, over, stop); });
+    }
+  };
   tbb::parallel_invoke(
       [&] {
         const core::ProgressScope scope(progress);
         make(kOneDirection, [&](auto stop) { return plan_single(part, machine, process, o, stop); });
         if (!may_turn_over) return;
-        make(kOneTurnedOver, [&](auto stop) { return plan_single(part, machine, process, over, stop); });
+        turned_over();
         if (unwanted[kOneOnASide].load()) return;
         if (const auto lying_along = side_direction(part.mesh, o.direction, process)) {
           PlanPartOptions lying = o;
@@ -580,6 +587,7 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
         // decomposition rooted there.
         if (!at_lowest) make(kFromLowest, [&](auto stop) { return plan_decomposed(part, machine, process, o, lowest, memo, stop); });
         make(kDecompositionTurnedOver, [&](auto stop) { return plan_decomposed(part, machine, process, over, o.root_base, memo, stop); });
+        turned_over();
       });
   std::vector<std::string> refused;
   std::optional<std::size_t> best;
