@@ -21,6 +21,9 @@ function kvList(entries) {
   return dl;
 }
 
+// A text value longer than this is shown under its key, across the panel (strategy_reason).
+const LONG_TEXT = 40;
+
 // Metrics: every key; small objects are listed one level deeper.
 function metricsList(metrics) {
   const entries = [];
@@ -29,7 +32,7 @@ function metricsList(metrics) {
       entries.push([k, '']);
       for (const [k2, v2] of Object.entries(v)) entries.push([`  ${k2}`, fmtValue(v2), 'px-nested']);
     } else {
-      entries.push([k, fmtValue(v)]);
+      entries.push([k, fmtValue(v), typeof v === 'string' && v.length > LONG_TEXT ? 'px-long' : '']);
     }
   }
   const dl = kvList(entries);

@@ -169,6 +169,21 @@ try {
     }
     changeNote = `slider last→first changed ${second.changed} px, regions toggle ${toggled.changed} px`;
   }
+  // Long metric texts (the strategy's reason) read across the panel under their key, not squeezed
+  // into the value column beside it.
+  const long = await page.evaluate(() => {
+    const dl = document.querySelector('.px-right dl.px-kv');
+    const reason = [...document.querySelectorAll('.px-right dt')].find((dt) => dt.textContent === 'strategy_reason');
+    const dd = reason ? reason.nextElementSibling : null;
+    return {
+      list: dl ? dl.clientWidth : 0,
+      reason: dd && dd.textContent.length > 40 ? dd.getBoundingClientRect().width : null,
+      widths: [...document.querySelectorAll('.px-right dd.px-long')].map((d) => d.getBoundingClientRect().width),
+    };
+  });
+  if ((long.reason !== null && long.reason < 0.8 * long.list) || long.widths.some((w) => w < 0.8 * long.list)) {
+    await finish(1, `FAIL ${name}: a long metric is squeezed into ${Math.min(...long.widths, long.reason ?? Infinity).toFixed(0)} px of a ${long.list} px list`);
+  }
   let playNote = 'no playback';
   const hasPlayback = await page.evaluate(() => window.polyaxisViewer.playback !== null && window.polyaxisViewer.playback !== undefined);
   if (hasPlayback) {
