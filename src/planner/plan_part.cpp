@@ -534,8 +534,9 @@ std::optional<Vec3> side_direction(const mesh::Mesh& m, Vec3 up, const process::
 }
 
 // The automatic choice. The candidates are made in two lanes side by side (the directions in one,
-// the decompositions in the other, the part turned over in the one free first), and a candidate is stopped once one before it is support-free:
-// the choice is the one made taking them one after the other, in less time.
+// the decompositions in the other, the part turned over in the one free first), and a candidate
+// is stopped once one before it is support-free: the choice is the one made taking them one after
+// the other, in less time.
 core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                     const process::ProcessConfig& process, const PlanPartOptions& o, PartMemo& memo, std::string& why) {
   PlanPartOptions over = o;  // the part turned over

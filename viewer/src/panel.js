@@ -36,8 +36,13 @@ function metricsList(metrics) {
     }
   }
   const dl = kvList(entries);
+  dl.classList.add('px-metrics');
   dl.querySelectorAll('dt').forEach((dt) => {
     if (dt.textContent.startsWith('  ')) { dt.style.paddingLeft = '10px'; dt.textContent = dt.textContent.trim(); }
+    // A long key may wrap after its underscores, so the values keep room for a word.
+    const parts = dt.textContent.split('_');
+    dt.textContent = '';
+    parts.forEach((p, i) => { dt.append(i + 1 < parts.length ? `${p}_` : p); if (i + 1 < parts.length) dt.append(el('wbr')); });
   });
   return dl;
 }

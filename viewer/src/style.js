@@ -22,6 +22,8 @@ html, body { margin: 0; height: 100%; overflow: hidden; background: ${BACKGROUND
 .px-kv dd { margin: 0; font-variant-numeric: tabular-nums; word-break: break-word; }
 .px-kv dd.px-nested { color: #3e4c59; }
 .px-kv dd.px-long { grid-column: 1 / -1; padding: 0 0 4px 10px; color: #3e4c59; }
+.px-kv.px-metrics { grid-template-columns: minmax(0, 1fr) minmax(0, 1fr); }
+.px-kv.px-metrics dt { white-space: normal; }
 .px-bad { color: #d00; font-weight: 600; }
 .px-marker { display: inline-block; background: #e00; color: #fff; border-radius: 3px; padding: 0 5px; margin-left: 6px;
   font-weight: 600; }
