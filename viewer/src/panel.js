@@ -40,9 +40,9 @@ function metricsList(metrics) {
   dl.querySelectorAll('dt').forEach((dt) => {
     if (dt.textContent.startsWith('  ')) { dt.style.paddingLeft = '10px'; dt.textContent = dt.textContent.trim(); }
     // A long key may wrap after its underscores, so the values keep room for a word.
-    const parts = dt.textContent.split('_');
+    const pieces = dt.textContent.split(/(?<=_)/);
     dt.textContent = '';
-    parts.forEach((p, i) => { dt.append(i + 1 < parts.length ? `${p}_` : p); if (i + 1 < parts.length) dt.append(el('wbr')); });
+    pieces.forEach((p, i) => dt.append(...(i ? [el('wbr'), p] : [p])));
   });
   return dl;
 }
