@@ -62,6 +62,11 @@ constexpr double kClearlySmallerShare = 0.1;
 // plane with coplanar facets of an already cut region can fail to end (CGAL clip), and the parent
 // keeps only a film this thin of the child (its faces far below kUnsupportedNoiseMm2).
 constexpr double kFaceCutOffsetMm = 1e-3;
+// A piece of a cut whose mean thickness (twice its volume over its surface: a slab's thickness) is
+// below this share of the least region thickness is a film: a plane moved kFaceCutOffsetMm off a
+// face the child stands on leaves the face's whole skin with the parent, which then seems to hold
+// up the child while nothing can be deposited that thin.
+constexpr double kFilmShare = 1.0;
 
 struct Candidate {
   Vec3 point, normal;  // the plane; normal towards the child
@@ -212,7 +217,15 @@ struct ExactRules {
   bool child_must_stand = false;  // a child left with overhang ends the split before the parent is built
   bool keep_base = false;         // a child with facets on the host's base is refused
   detail::DirectionCone reach;    // the child's build direction stays inside it
+  double min_thickness_mm = 0.0;  // a piece thinner than this on average is refused (is_film)
 };
+
+// Whether PIECE is thinner on average than kFilmShare · MIN_THICKNESS_MM: twice its volume over its
+// surface, which is a slab's thickness and less for any other shape of that volume and surface.
+bool is_film(const mesh::Mesh& piece, double min_thickness_mm) {
+  const double area = mesh::surface_area(piece);
+  return area > 0.0 && 2.0 * mesh::signed_volume(piece) < kFilmShare * min_thickness_mm * area;
+}
 
 // Cuts HOST by the plane (POINT, NORMAL towards the child; capped); the child is the piece on the
 // normal side nearest TARGETS, every other piece stays with the parent, put back onto it as one
@@ -245,6 +258,7 @@ std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 norma
   if (!cut) return std::nullopt;
   out.child = std::move(cut.value().child);
   out.parent = std::move(cut.value().parent);
+  if (is_film(out.child, rules.min_thickness_mm) || is_film(out.parent, rules.min_thickness_mm)) return std::nullopt;
   // Counted on the child as cut, with any cavity it encloses.
   out.child_mm2 = detail::unsupported(out.child, out.direction, alpha_deg, point, normal);
   if (rules.child_must_stand && out.child_mm2 > 0.0) return std::nullopt;
@@ -509,7 +523,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       const Candidate& c = best_candidates[k];
       if (!spend(kExactCutVisitsPerFacet * static_cast<double>(tree.regions[host].mesh.triangles.size()))) break;
       const Vec3 starts[] = {c.normal, s.dir, s.branch_dir, c.screened.child_direction};
-      auto e = exact_split(tree.regions[host], c.point, c.normal, s.targets, starts, alpha, ExactRules{false, false, reach});
+      auto e = exact_split(tree.regions[host], c.point, c.normal, s.targets, starts, alpha, ExactRules{false, false, reach, options.min_region_mm});
       if (e && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
         chosen = std::move(e), used = &best_candidates[k];
         // The cut confirms the estimate: the later candidates were estimated no better.
@@ -550,7 +564,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
           if (c.screened.total() >= overhang[host] - kMinGainMm2) break;
           if (!spend(kExactCutVisitsPerFacet * static_cast<double>(h.mesh.triangles.size()))) break;
           const Vec3 starts[] = {c.normal, c.screened.child_direction};
-          auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, ExactRules{true, hr.keep_base, reach});
+          auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, ExactRules{true, hr.keep_base, reach, options.min_region_mm});
           if (e && e->child_mm2 == 0.0 && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
             chosen = std::move(e), used = &c;
             if (chosen->unsupported_mm2 <= c.screened.total() + kUnsupportedNoiseMm2) break;

@@ -378,6 +378,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   dopt.self_supporting_deg = process.self_supporting_deg;
   dopt.work_budget_facet_visits = o.decompose_budget_facet_visits;
   dopt.reach_deg = detail::direction_reach_rad(machine, process) * 180.0 / std::numbers::pi;
+  dopt.min_region_mm = process.layer_min_mm;
   dopt.stop = stop;
   auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
   if (!tree) return tree.error();

@@ -85,6 +85,9 @@ struct DecomposeOptions {
   // file). A region that no reachable direction holds keeps its overhang rather than a direction
   // the machine cannot take. 180: any direction.
   double reach_deg = 180.0;
+  // The least thickness a region can be deposited with, mm (the process's least layer): a cut
+  // leaving a piece thinner than this on average (a film of a face) is refused.
+  double min_region_mm = 0.3;
   // Set (by another thread) when the result is no longer wanted: the decomposition ends at its
   // next piece of work, as if its budget were spent. Null: it runs to its end.
   const std::atomic<bool>* stop = nullptr;
