@@ -58,10 +58,7 @@ constexpr std::size_t kMaxPatchesPerRegion = 4;
 constexpr double kSameCos = 1e-6;
 // Of two children, one whose surface is smaller by more than this share is the smaller.
 constexpr double kClearlySmallerShare = 0.1;
-// A cut along a planar face of the part is moved this far into the child, mm: corefinement of a
-// plane with coplanar facets of an already cut region can fail to end (CGAL clip), and the parent
-// keeps only a film this thin of the child (its faces far below kUnsupportedNoiseMm2).
-constexpr double kFaceCutOffsetMm = 1e-3;
+using detail::kFaceCutOffsetMm;
 // A piece of a cut whose mean thickness (twice its volume over its surface: a slab's thickness) is
 // below this share of the least region thickness is a film: a plane moved kFaceCutOffsetMm off a
 // face the child stands on leaves the face's whole skin with the parent, which then seems to hold
@@ -261,6 +258,8 @@ std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 norma
   if (is_film(out.child, rules.min_thickness_mm) || is_film(out.parent, rules.min_thickness_mm)) return std::nullopt;
   // Counted on the child as cut, with any cavity it encloses.
   out.child_mm2 = detail::unsupported(out.child, out.direction, alpha_deg, point, normal);
+  // Its own underside where it lies in the cut: nothing holds it but a film of the parent.
+  if (const double on_cut = detail::underside_in_cut_mm2(host.mesh, point, normal); on_cut >= kUnsupportedNoiseMm2) out.child_mm2 += on_cut;
   if (rules.child_must_stand && out.child_mm2 > 0.0) return std::nullopt;
   out.unsupported_mm2 = detail::unsupported(out.parent, host.build_direction, alpha_deg, host.base_point, host.base_normal) + out.child_mm2;
   return out;

@@ -18,6 +18,8 @@ constexpr double kCoplanarCos = 0.9999999;
 // curve (a bore's, 3.75° apart at 96 sides) meet at shallower steps that are not edges of the part.
 constexpr double kConcaveRiseMm = 1e-9;
 constexpr double kCreaseDeg = 20.0;
+// Faces this far on the parent's side of a cut are in it (underside_in_cut_mm2), mm.
+constexpr double kUndersideBandMm = 2.0 * kFaceCutOffsetMm;
 
 }  // namespace
 
@@ -145,6 +147,23 @@ double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_poin
   double total = 0.0;
   for (const OverhangPatch& p : overhang_patches(m, mesh::build_topology(m), d, alpha_deg, base_point, base_normal)) total += p.area_mm2;
   return total;
+}
+
+double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal) {
+  const Vec3 n = core::normalized(normal);
+  double area = 0.0;
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+    const Vec3 a2 = mesh::face_area_vector(m, f);
+    const double len = core::norm(a2);
+    if (len == 0.0 || core::dot(a2, n) > -kCoplanarCos * len) continue;  // not facing away from the child
+    bool in_cut = true;
+    for (int k = 0; k < 3 && in_cut; ++k) {
+      const double d = core::dot(m.corner(f, k) - point, n);
+      in_cut = d <= kOnBaseMm && d >= -kUndersideBandMm;
+    }
+    if (in_cut) area += len / 2.0;
+  }
+  return area;
 }
 
 std::vector<mesh::Mesh> shells_of(const mesh::Mesh& piece) {

@@ -21,6 +21,12 @@ inline constexpr double kOnBaseMm = 1e-6;
 // of a cylinder keeps films up to the chordal deviation thick over the neighbouring facets), mm².
 // A single bead (about 1 mm wide) bridges far more.
 inline constexpr double kUnsupportedNoiseMm2 = 0.25;
+// A cut along a planar face of the part is moved this far into the child, mm: corefinement of a
+// plane with coplanar facets of an already cut region can fail to end (CGAL clip), and the parent
+// keeps a film this thin of the child: where the face is the parent's and the child grows out of
+// it, a sliver of the cap (its faces far below kUnsupportedNoiseMm2); where it is the child's own
+// underside, the whole face (underside_in_cut_mm2 counts it as the child's overhang).
+inline constexpr double kFaceCutOffsetMm = 1e-3;
 
 struct PlanarFace {
   Vec3 normal;  // unit, outward
@@ -60,6 +66,12 @@ std::vector<OverhangPatch> overhang_patches(const mesh::Mesh& m, const mesh::Edg
 // (mesh::overhang_area would count a base that is not perpendicular to D.) Patches below
 // kUnsupportedNoiseMm2 are not counted. O(F).
 double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_point, Vec3 base_normal);
+
+// Area of the facets of M that lie in the cut plane (POINT, unit NORMAL towards the child), or up
+// to twice kFaceCutOffsetMm on the parent's side of it, facing away from the child: the child's own
+// underside, which the cut leaves on nothing but a film of the parent (or on nothing at all), mm².
+// Such a face is an overhang of the child whatever its direction. O(F).
+double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal);
 
 // The shells of a closed mesh, as separate closed meshes (mesh::repair groups faces by shell).
 std::vector<mesh::Mesh> shells_of(const mesh::Mesh& piece);

@@ -115,10 +115,48 @@ inline std::vector<int> match_directions(const RegionTree& tree, const std::vect
   return out;
 }
 
+// Each region's base rests on material built before it, checked on the regions' meshes alone:
+// points spread over its facets on its base plane, kUnderBaseMm below it, lie inside a region
+// before it (winding number). At most kStrayOverhangMm2 of a base may be over nothing: a base over
+// a film of its parent (a cut moved off a face of the child's own underside) or over air is not.
+// The root (on the plate) and regions built downwards from the plate are left out.
+inline constexpr double kUnderBaseMm = 0.01;
+inline constexpr double kStrayOverhangMm2 = 0.5;
+inline void expect_bases_rest_on_earlier_regions(const RegionTree& tree) {
+  constexpr double kSampleMm2 = 0.5;  // about one point per this much base
+  constexpr int kMaxSamplesPerFacet = 64;
+  std::uint64_t lcg = 12345;
+  auto uniform = [&] { return static_cast<double>((lcg = lcg * 6364136223846793005ULL + 1442695040888963407ULL) >> 11) / 9007199254740992.0; };
+  for (std::size_t i = 1; i < tree.regions.size(); ++i) {
+    const Region& r = tree.regions[i];
+    if (r.rule == "below the plate") continue;
+    const Vec3 bn = core::normalized(r.base_normal);
+    double over_nothing = 0.0;
+    for (std::size_t f = 0; f < r.mesh.triangles.size(); ++f) {
+      const Vec3 a = r.mesh.corner(f, 0), b = r.mesh.corner(f, 1), c = r.mesh.corner(f, 2);
+      bool on_base = true;
+      for (const Vec3& q : {a, b, c}) on_base = on_base && std::fabs(core::dot(q - r.base_point, bn)) <= 1e-6;
+      const double area = core::norm(mesh::face_area_vector(r.mesh, f)) / 2.0;
+      if (!on_base || area == 0.0) continue;
+      const int n = std::clamp(static_cast<int>(std::ceil(area / kSampleMm2)), 1, kMaxSamplesPerFacet);
+      int missed = 0;
+      for (int k = 0; k < n; ++k) {
+        double u = uniform(), v = uniform();
+        if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+        const Vec3 p = a + (b - a) * u + (c - a) * v - bn * kUnderBaseMm;
+        double w = 0.0;
+        for (std::size_t j = 0; j < i; ++j) w += mesh::winding_number(tree.regions[j].mesh, p);
+        missed += w < 0.5 ? 1 : 0;
+      }
+      over_nothing += area * missed / n;
+    }
+    EXPECT_LT(over_nothing, kStrayOverhangMm2) << "region " << r.id << ": " << over_nothing << " mm2 of its base over nothing";
+  }
+}
+
 // Each region support-free in its own direction at the default 30°: its flag, and, counted here
 // from its facets, less than kStrayOverhangMm2 of facets facing down past the limit off its base
 // plane (the cut's slivers where a plane grazes a tessellated curve).
-inline constexpr double kStrayOverhangMm2 = 0.5;
 inline void expect_support_free(const RegionTree& tree) {
   for (const Region& r : tree.regions) {
     EXPECT_TRUE(r.support_free) << "region " << r.id << ": " << r.unsupported_area_mm2 << " mm2";
@@ -134,6 +172,7 @@ inline void expect_support_free(const RegionTree& tree) {
     }
     EXPECT_LT(overhang, kStrayOverhangMm2) << "region " << r.id;
   }
+  expect_bases_rest_on_earlier_regions(tree);
 }
 
 }  // namespace polyaxis::analysis::test

@@ -271,6 +271,37 @@ INSTANTIATE_TEST_SUITE_P(Sizes, ShelfWithBoss,
                            return "reach" + std::to_string(static_cast<int>(i.param.reach)) + "_boss" + std::to_string(static_cast<int>(i.param.boss_r));
                          });
 
+// A square column with arms on its four sides at four heights (other lengths and heights). The
+// faces of the arms along X lie in one plane across the column; that plane, moved off them into the
+// child, took the column, the arms along X and the arm on one side as a child built sideways, on
+// films of those arms' own sides: the analysis called it support-free, and the plan started those
+// arms in mid-air. Every region now stands (expect_support_free checks the bases against the
+// regions below them).
+struct ArmsAt {
+  double z[4];  // heights of the arms' undersides: +X, −X, +Y, −Y
+  double reach[4];
+};
+class ColumnWithFourArms : public ::testing::TestWithParam<ArmsAt> {};
+
+TEST_P(ColumnWithFourArms, EveryArmStandsOnMaterialBelowIt) {
+  const ArmsAt a = GetParam();
+  constexpr double kHalf = 6.0, kArmHalf = 4.0, kArm = 8.0;
+  RawMesh part = polyaxis::test::box({-kHalf, -kHalf, 0}, {kHalf, kHalf, 70});
+  part = polyaxis::test::mesh_union(part, polyaxis::test::box({kHalf, -kArmHalf, a.z[0]}, {kHalf + a.reach[0], kArmHalf, a.z[0] + kArm}));
+  part = polyaxis::test::mesh_union(part, polyaxis::test::box({-kHalf - a.reach[1], -kArmHalf, a.z[1]}, {-kHalf, kArmHalf, a.z[1] + kArm}));
+  part = polyaxis::test::mesh_union(part, polyaxis::test::box({-kArmHalf, kHalf, a.z[2]}, {kArmHalf, kHalf + a.reach[2], a.z[2] + kArm}));
+  part = polyaxis::test::mesh_union(part, polyaxis::test::box({-kArmHalf, -kHalf - a.reach[3], a.z[3]}, {kArmHalf, -kHalf, a.z[3] + kArm}));
+  const auto repaired_part = repaired(std::move(part));
+  const RegionTree tree = pipeline(repaired_part);
+  ASSERT_GE(tree.regions.size(), 2u);
+  expect_partition(tree, repaired_part.mesh);
+  expect_support_free(tree);
+}
+
+INSTANTIATE_TEST_SUITE_P(Heights, ColumnWithFourArms,
+                         ::testing::Values(ArmsAt{{55, 40, 25, 60}, {28, 24, 20, 32}}, ArmsAt{{20, 50, 35, 10}, {18, 30, 25, 15}},
+                                           ArmsAt{{45, 45, 30, 30}, {22, 22, 22, 22}}));
+
 }  // namespace
 }  // namespace polyaxis::analysis::test
 
