@@ -454,7 +454,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   // Link S's candidates screened in region HOST, best first (none once the budget is spent).
   auto screen_link = [&](const SplitLink& s, std::size_t host) {
     const Region& h = tree.regions[host];
-    detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal, false, reach};
+    detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal, false, reach, nullptr, options.min_region_mm};
     std::vector<Candidate> cands = candidates_for(s, mesh, faces, axis.increment_mm, options.face_normal_tolerance_deg, alpha);
     if (!spend(static_cast<double>(cands.size() + s.targets.size()) * static_cast<double>(h.mesh.triangles.size()))) return std::vector<Candidate>{};
     const detail::HostFaces host_faces = detail::host_faces(h.mesh, h.build_direction, h.base_point, h.base_normal, alpha);
@@ -544,7 +544,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     for (std::size_t host = 0; host < tree.regions.size() && !split; ++host) {
       if (overhang[host] <= 0.0) continue;
       const Region& h = tree.regions[host];
-      detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal, false, reach};
+      detail::HostRegion hr{&h.mesh, &topology[host], h.build_direction, h.base_point, h.base_normal, false, reach, nullptr, options.min_region_mm};
       // The plate stays under the regions that stand on it; a cut base may go with the child, whose
       // facets on it are then checked like any other.
       hr.keep_base = !h.parent || h.rule == "below the plate";

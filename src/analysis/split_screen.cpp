@@ -177,6 +177,7 @@ HostFaces host_faces(const mesh::Mesh& m, Vec3 direction, Vec3 base_point, Vec3 
     out.normal[f] = n, out.area_mm2[f] = len / 2.0, out.on_base[f] = on_base;
     out.overhangs[f] = !on_base && core::dot(n, hd) < limit;
     out.area_sum_mm2 += len / 2.0;
+    out.volume_mm3 += core::dot(m.corner(f, 0), n) * len / 6.0;
     if (out.overhangs[f]) out.overhang_sum_mm2 += len / 2.0;
   }
   return out;
@@ -227,6 +228,7 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
   std::vector<FacetSample> child;
   child.reserve(reached.size());
   double child_cap_mm2 = 0.0, child_area = 0.0, child_overhang = 0.0;
+  double child_volume = 0.0;  // about POINT: the cap, in the plane, adds nothing
   for (const std::uint32_t f : reached) {
     if (hf.area_mm2[f] == 0.0) continue;
     const Vec3 n = hf.normal[f];
@@ -239,6 +241,7 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
     if (in_child > 0.0 && hf.on_base[f] && host.keep_base) return out;
     if (in_child > 0.0) child.push_back({n, in_child}), out.child_area_mm2 += in_child;
     child_cap_mm2 += in_child * core::dot(n, normal);
+    child_volume += in_child * core::dot(m.corner(f, 0) - point, n) / 3.0;  // the same at every point of the facet's plane
     child_area += in_child;
     if (hf.overhangs[f]) child_overhang += in_child;
   }
@@ -246,6 +249,9 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
   const double parent_area = hf.area_sum_mm2 - child_area;
   out.parent_mm2 = std::max(0.0, hf.overhang_sum_mm2 - child_overhang);
   if (child.empty() || parent_area <= kUnsupportedNoiseMm2) return out;
+  // Either piece thinner on average than a region can be laid (a film, a sliver): no split.
+  const double cap = std::max(0.0, child_cap_mm2), min_t = host.min_thickness_mm;
+  if (2.0 * child_volume < min_t * (child_area + cap) || 2.0 * (hf.volume_mm3 - child_volume) < min_t * (parent_area + cap)) return out;
   const double limit = -std::sin(alpha_deg * kPi / 180.0);
   const Vec3 hd = core::normalized(host.direction), hb = core::normalized(host.base_normal);
   // The cap closes both pieces; the parent's copy faces the child (+NORMAL). It rests on nothing

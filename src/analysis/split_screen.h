@@ -70,6 +70,7 @@ struct HostFaces {
   std::vector<double> area_mm2;  // 0 for a degenerate facet (then no normal)
   std::vector<char> on_base, overhangs;
   double area_sum_mm2 = 0.0, overhang_sum_mm2 = 0.0;  // overhang: off the base only
+  double volume_mm3 = 0.0;                             // of the host (divergence theorem)
 };
 HostFaces host_faces(const mesh::Mesh& m, Vec3 direction, Vec3 base_point, Vec3 base_normal, double alpha_deg);
 
@@ -80,13 +81,16 @@ struct HostRegion {
   bool keep_base = false;  // a child that would take facets of the host's base is not valid
   DirectionCone reach;     // the child's build direction stays inside it
   const HostFaces* faces = nullptr;  // host_faces of the above, at the screening's alpha
+  double min_thickness_mm = 0.0;     // a cut leaving a piece thinner than this on average is not valid
 };
 
 // Estimates the split of HOST by the plane (POINT, unit NORMAL pointing to the child side): the
 // child is the surface on the normal side connected to SEEDS (nearest_facets of the branch's
 // points; those not on the child side are left out); every other part stays with the parent. Facet areas are clipped exactly at
-// the plane; pieces touching only through the cap are not joined (the exact cut does). Cost: the
-// child's facets and their corners (HOST.faces holds the rest).
+// the plane; pieces touching only through the cap are not joined (the exact cut does). A split
+// whose child or parent would be thinner on average than HOST.min_thickness_mm (twice its volume
+// over its surface, both from the clipped facets and the cap) is not valid. Cost: the child's
+// facets and their corners (HOST.faces holds the rest).
 Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span<const std::uint32_t> seeds,
                       std::span<const Vec3> direction_starts, double alpha_deg);
 
