@@ -116,6 +116,22 @@ std::vector<Polygon> detail::union_rings_by_clipper(const std::vector<Ring>& rin
   return result;
 }
 
+std::vector<Ring> union_boundary(const std::vector<Ring>& rings, FillRule fill_rule) {
+  // Rings that nest without crossing are their own union's boundary (ring_nesting.h).
+  if (detail::union_of_nested_rings(rings)) return rings;
+  ClipperLib::Clipper clipper;
+  for (const Ring& r : rings) {
+    if (r.size() >= 3) clipper.AddPath(to_path(r), ClipperLib::ptSubject, true);
+  }
+  ClipperLib::Paths paths;  // not a PolyTree: nesting its rings is what costs
+  const auto rule = fill_rule == FillRule::kNonZero ? ClipperLib::pftNonZero : ClipperLib::pftEvenOdd;
+  clipper.Execute(ClipperLib::ctUnion, paths, rule, rule);
+  std::vector<Ring> out;
+  out.reserve(paths.size());
+  for (const ClipperLib::Path& path : paths) out.push_back(to_ring(path));
+  return out;
+}
+
 namespace {
 
 std::vector<Polygon> boolean(ClipperLib::ClipType op, const std::vector<Ring>& a, const std::vector<Ring>& b) {
@@ -170,12 +186,11 @@ std::vector<Ring> clip_open(const std::vector<Ring>& paths, const std::vector<Ri
   return out;
 }
 
-std::vector<Polygon> offset(const std::vector<Polygon>& polygons, double delta_mm) {
+std::vector<Polygon> offset(const std::vector<Polygon>& polygons, double delta_mm) { return offset_rings(rings_of(polygons), delta_mm); }
+
+std::vector<Polygon> offset_rings(const std::vector<Ring>& rings, double delta_mm) {
   ClipperLib::ClipperOffset off(2.0, 0.25 * kUnitsPerMm * 1e-3);
-  for (const Polygon& p : polygons) {
-    off.AddPath(to_path(p.outer), ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
-    for (const Ring& h : p.holes) off.AddPath(to_path(h), ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
-  }
+  for (const Ring& r : rings) off.AddPath(to_path(r), ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
   ClipperLib::PolyTree tree;
   off.Execute(tree, delta_mm * kUnitsPerMm);
   return from_tree(tree);

@@ -29,13 +29,14 @@ double angle_deg(Vec3 a, Vec3 b) {
   return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
 }
 
-// The unsupported area of LAYER over BELOW (polygons in the layer's (u, v) frame, T mm under it;
-// see PlanOptions' comment in plan.h); the unsupported pieces are appended to PIECES.
-double unsupported_area(const std::vector<geom2d::Polygon>& below, double t, const slicing::Layer& layer,
+// The unsupported area of LAYER over BELOW (the rings bounding what holds it, in the layer's (u, v)
+// frame, T mm under it; see PlanOptions' comment in plan.h); the unsupported pieces are appended
+// to PIECES.
+double unsupported_area(const std::vector<geom2d::Ring>& below, double t, const slicing::Layer& layer,
                         const toolpath::LayerToolpaths& paths, double alpha_deg, double bead_mm, double max_step_mm,
                         std::vector<geom2d::Polygon>& pieces) {
   const double base_grow = t * std::tan(alpha_deg * kPi / 180.0);
-  const auto overhang = geom2d::difference_rings(geom2d::rings_of(layer.polygons), geom2d::rings_of(geom2d::offset(below, base_grow)));
+  const auto overhang = geom2d::difference_rings(geom2d::rings_of(layer.polygons), geom2d::rings_of(geom2d::offset_rings(below, base_grow)));
   double total = 0.0;
   std::map<int, std::vector<geom2d::Ring>> grown_by_angle;  // the layer below grown, per tilt (0.1° steps)
   for (const geom2d::Polygon& piece : overhang) {
@@ -63,7 +64,7 @@ double unsupported_area(const std::vector<geom2d::Polygon>& below, double t, con
     const int key = static_cast<int>(std::floor(std::min(alpha_deg + tilt, kMaxSupportAngleDeg) * 10.0));  // rounded down: conservative
     auto it = grown_by_angle.find(key);
     if (it == grown_by_angle.end()) {
-      it = grown_by_angle.emplace(key, geom2d::rings_of(geom2d::offset(below, tilted_step_mm(t, key / 10.0, alpha_deg, max_step_mm)))).first;
+      it = grown_by_angle.emplace(key, geom2d::rings_of(geom2d::offset_rings(below, tilted_step_mm(t, key / 10.0, alpha_deg, max_step_mm)))).first;
     }
     std::vector<geom2d::Polygon> left = geom2d::difference_rings(geom2d::rings_of({piece}), it->second);
     total += geom2d::area_mm2(left);
@@ -96,9 +97,10 @@ class BuiltBefore {
  public:
   BuiltBefore(const std::vector<PlanRegion>& regions) : regions_(regions) {}
 
-  // The material of the regions before REGION_INDEX (build order) on the plane of FRAME, in its (u, v);
-  // of prebuilt regions on the plane PREBUILT_DROP_MM lower.
-  std::vector<geom2d::Polygon> section(std::size_t region_index, const slicing::Frame& frame, double prebuilt_drop_mm) {
+  // The material of the regions before REGION_INDEX (build order) on the plane of FRAME, in its (u, v),
+  // as the rings of its sections (overlapping where regions meet); of prebuilt regions on the plane
+  // PREBUILT_DROP_MM lower.
+  std::vector<geom2d::Ring> section(std::size_t region_index, const slicing::Frame& frame, double prebuilt_drop_mm) {
     if (region_index != region_) contexts_.clear(), region_ = region_index;  // layers come region by region
     std::vector<geom2d::Ring> rings;
     const double h = core::dot(frame.origin, frame.d);
@@ -115,7 +117,7 @@ class BuiltBefore {
       const slicing::SectionResult s = slicing::section(*ctx, hq, frame, candidates_, scratch_);
       for (geom2d::Ring& r : geom2d::rings_of(s.polygons)) rings.push_back(std::move(r));
     }
-    return geom2d::union_rings(rings, geom2d::FillRule::kNonZero);
+    return rings;
   }
 
  private:
@@ -201,12 +203,12 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
       const bool carried = under.conformal && !down.conformal->axes.empty();
       down.polygons = carried ? lowered(down, down.conformal->level_mm - under.conformal->level_mm) : down.conformal->footprint;
       const std::vector<geom2d::Polygon>& held = carried ? under.polygons : (under.conformal ? under.conformal->footprint : under.polygons);
-      const double area = unsupported_area(held, ls[k].thickness_range().first, down, toolpath::LayerToolpaths{}, alpha, bead, max_step, pieces);
+      const double area = unsupported_area(geom2d::rings_of(held), ls[k].thickness_range().first, down, toolpath::LayerToolpaths{}, alpha, bead, max_step, pieces);
       if (area >= kUnsupportedNoiseMm2) r.unsupported_area_mm2 = area, r.unsupported = std::move(pieces);
       plan.unsupported_area_mm2 += r.unsupported_area_mm2;
       continue;
     }
-    double area = first ? r.area_mm2 : unsupported_area(below, t, ls[k], lt, alpha, bead, max_step, pieces);
+    double area = first ? r.area_mm2 : unsupported_area(geom2d::rings_of(below), t, ls[k], lt, alpha, bead, max_step, pieces);
     if (area >= kUnsupportedNoiseMm2 && region_index > 0) {
       // What the earlier regions hold one layer below this one; a prebuilt part holds up the layer
       // wherever it comes within the least thickness under the layer's bottom (the planner trims
@@ -215,9 +217,9 @@ void check_support(Plan& plan, const process::ProcessConfig& process) {
       under.origin = under.origin - under.d * t;
       const double prebuilt_drop = ls[k].below_mm + process.layer_min_mm - t;
       std::vector<geom2d::Ring> rings = geom2d::rings_of(below);
-      for (geom2d::Ring& ring : geom2d::rings_of(built.section(region_index, under, prebuilt_drop))) rings.push_back(std::move(ring));
+      for (geom2d::Ring& ring : built.section(region_index, under, prebuilt_drop)) rings.push_back(std::move(ring));
       pieces.clear();
-      area = unsupported_area(geom2d::union_rings(rings, geom2d::FillRule::kNonZero), t, ls[k], lt, alpha, bead, max_step, pieces);
+      area = unsupported_area(geom2d::union_boundary(rings, geom2d::FillRule::kNonZero), t, ls[k], lt, alpha, bead, max_step, pieces);
     }
     if (area >= kUnsupportedNoiseMm2) r.unsupported_area_mm2 = area, r.unsupported = std::move(pieces);
     plan.unsupported_area_mm2 += r.unsupported_area_mm2;

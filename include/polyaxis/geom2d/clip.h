@@ -16,6 +16,12 @@ enum class FillRule { kEvenOdd, kNonZero };
 // fill rule (RELIABILITY T6 uses kNonZero).
 std::vector<Polygon> union_rings(const std::vector<Ring>& rings, FillRule fill_rule);
 
+// The boundary of the union of RINGS under FILL_RULE (outer rings CCW, holes CW), not nested into
+// polygons: for what needs only the area covered (an offset, a boolean). Nesting Clipper's result
+// (its PolyTree) is quadratic in the rings where many meet along edges, as the sections of
+// neighbouring regions do.
+std::vector<Ring> union_boundary(const std::vector<Ring>& rings, FillRule fill_rule);
+
 // Symmetric difference and difference of two sets of rings, each read under the nonzero rule.
 std::vector<Polygon> xor_rings(const std::vector<Ring>& a, const std::vector<Ring>& b);
 std::vector<Polygon> difference_rings(const std::vector<Ring>& a, const std::vector<Ring>& b);
@@ -23,6 +29,8 @@ std::vector<Polygon> intersection_rings(const std::vector<Ring>& a, const std::v
 
 // Offsets POLYGONS by DELTA_MM (negative shrinks) with mitred corners limited to 2·|delta|.
 std::vector<Polygon> offset(const std::vector<Polygon>& polygons, double delta_mm);
+// The same for the area RINGS bound (outer rings CCW, holes CW; overlapping rings add up).
+std::vector<Polygon> offset_rings(const std::vector<Ring>& rings, double delta_mm);
 
 // The area a disc of RADIUS_MM covers swept along each open polyline of PATHS (round joins and
 // ends): the footprint of beads laid along them. Polylines of one point give a disc.

@@ -75,6 +75,32 @@ TEST(Clip, OffsetShrinksASquare) {
   EXPECT_NEAR(area_mm2(polys[0]), 64.0, 1e-9);
 }
 
+// The union's boundary, not nested: the same area as the nested union, and grown the same, for
+// sections of neighbouring regions that share edges, a frame around a hole with a region in it,
+// and rings that nest already (handed back as they are).
+TEST(Clip, UnionBoundaryCoversWhatTheUnionDoesAndGrowsAlike) {
+  const std::int64_t mm = to_units(1);
+  const Ring frame_hole = {{2 * mm, 8 * mm}, {8 * mm, 8 * mm}, {8 * mm, 2 * mm}, {2 * mm, 2 * mm}};  // clockwise
+  const std::vector<std::vector<Ring>> cases = {
+      {square(0, 0, 10 * mm), square(10 * mm, 0, 10 * mm), square(0, 10 * mm, 20 * mm)},
+      {square(0, 0, 10 * mm), frame_hole, square(4 * mm, 4 * mm, 2 * mm), square(10 * mm, 3 * mm, 4 * mm)},
+      {square(0, 0, 10 * mm), frame_hole},
+  };
+  auto area = [](const std::vector<Polygon>& polys) {
+    double a = 0.0;
+    for (const Polygon& p : polys) a += area_mm2(p);
+    return a;
+  };
+  for (const auto& rings : cases) {
+    const auto nested = union_rings(rings, FillRule::kNonZero);
+    const auto boundary = union_boundary(rings, FillRule::kNonZero);
+    double signed_area = 0.0;
+    for (const Ring& r : boundary) signed_area += static_cast<double>(twice_signed_area(r)) / 2.0;
+    EXPECT_NEAR(signed_area / static_cast<double>(mm) / static_cast<double>(mm), area(nested), 1e-9);
+    for (const double grow : {0.3, 1.5}) EXPECT_NEAR(area(offset_rings(boundary, grow)), area(offset(nested, grow)), 1e-9) << grow;
+  }
+}
+
 TEST(Clip, SweepOfAnOpenLineIsAStadium) {
   const std::int64_t mm = to_units(1);
   const auto polys = sweep_open({Ring{{0, 0}, {10 * mm, 0}}}, 1.0);
