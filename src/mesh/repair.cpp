@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 #include <bit>
 #include <cmath>
 #include <numeric>
@@ -129,6 +130,76 @@ std::vector<std::uint32_t> open_vertices(const Mesh& mesh, const EdgeTopology& t
   return out;
 }
 
+namespace {
+
+constexpr double kMinTwiceArea = 2.0 * core::kDegenerateAreaMm2;
+// Caps flipped at most, each after a fresh topology (a mesh with more is left to removal).
+constexpr std::uint64_t kMaxCapFlips = 256;
+
+bool degenerate(const Mesh& mesh, const Triangle& t) {
+  if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
+  const Vec3 n = cross(mesh.vertices[t[1]] - mesh.vertices[t[0]], mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+  return dot(n, n) < kMinTwiceArea * kMinTwiceArea;
+}
+
+// The half-edge of cap F along its longest edge, when its third vertex lies strictly inside that
+// edge (not at an end: that is a needle, a face with a vanishing edge).
+std::optional<std::uint32_t> cap_edge(const Mesh& mesh, std::uint32_t f) {
+  const Triangle& t = mesh.triangles[f];
+  if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !degenerate(mesh, t)) return std::nullopt;
+  std::uint32_t k = 0;
+  double longest = -1.0;
+  for (std::uint32_t e = 0; e < 3; ++e) {
+    const Vec3 d = mesh.vertices[t[(e + 1) % 3]] - mesh.vertices[t[e]];
+    if (dot(d, d) > longest) longest = dot(d, d), k = e;
+  }
+  const Vec3 a = mesh.vertices[t[k]], c = mesh.vertices[t[(k + 1) % 3]], m = mesh.vertices[t[(k + 2) % 3]];
+  const double along = dot(m - a, c - a) / longest;
+  constexpr double kInside = 1e-6;  // of the edge's length, from either end
+  if (!(along > kInside && along < 1.0 - kInside)) return std::nullopt;
+  return 3 * f + k;
+}
+
+}  // namespace
+
+std::uint64_t flip_caps(Mesh& mesh) {
+  std::uint64_t flipped = 0;
+  std::vector<char> tried(mesh.triangles.size(), 0);
+  bool again = true;
+  while (again && flipped < kMaxCapFlips) {
+    again = false;
+    const EdgeTopology topo = build_topology(mesh);
+    for (std::uint32_t f = 0; f < mesh.triangles.size() && !again; ++f) {
+      if (tried[f]) continue;
+      const auto h = cap_edge(mesh, f);
+      if (!h) continue;
+      tried[f] = 1;
+      // The cap is part of a closed surface: each of its edges has one other face, which agrees.
+      bool closed = true;
+      for (std::uint32_t e = 3 * f; e < 3 * f + 3 && closed; ++e) {
+        const std::uint32_t x = topo.opposite[e];
+        closed = x != kNoHalfEdge && half_edge_from(mesh, x) == half_edge_to(mesh, e);
+      }
+      if (!closed) continue;
+      const std::uint32_t o = topo.opposite[*h];
+      const std::uint32_t g = o / 3;
+      const std::uint32_t a = half_edge_from(mesh, *h), c = half_edge_to(mesh, *h);
+      const std::uint32_t m = mesh.triangles[f][(*h % 3 + 2) % 3], d = mesh.triangles[g][(o % 3 + 2) % 3];
+      const Triangle first{a, d, m}, second{d, c, m};
+      if (m == d || degenerate(mesh, first) || degenerate(mesh, second)) continue;
+      bool exists = false;  // the new edge M-D must not be one already (it would have three faces)
+      for (std::uint32_t e = 0; e < topo.opposite.size() && !exists; ++e) {
+        const std::uint32_t x = half_edge_from(mesh, e), y = half_edge_to(mesh, e);
+        exists = (x == m && y == d) || (x == d && y == m);
+      }
+      if (exists) continue;
+      mesh.triangles[f] = first, mesh.triangles[g] = second;
+      ++flipped, again = true;
+    }
+  }
+  return flipped;
+}
+
 std::uint64_t remove_degenerate_faces(Mesh& mesh) {
   const std::size_t before = mesh.triangles.size();
   std::size_t out = 0;
@@ -236,6 +307,7 @@ std::vector<std::string> RepairReport::lines() const {
   };
   add(merged_vertices, "vertices merged within the merge tolerance");
   add(unused_vertices, "unused vertices removed");
+  add(flipped_caps, "caps (faces with a vertex inside an edge) flipped into proper faces");
   add(degenerate_faces, "degenerate faces removed");
   add(duplicate_faces, "duplicate faces removed");
   add(nonmanifold_edges, "non-manifold edges found");
@@ -280,6 +352,7 @@ core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options)
   // metres or microns is not collapsed into a point before the unit warning can be given.
   const double diagonal = norm(bounding_box(mesh).size());
   const double merge_mm = std::min(options.merge_mm, kMaxMergeShareOfDiagonal * diagonal);
+  report.flipped_caps = detail::flip_caps(mesh);
   report.degenerate_faces = detail::remove_degenerate_faces(mesh);
   if (mesh.triangles.empty()) return core::make_error(ErrorCode::kInvalidInput, "no geometry: every face is degenerate");
   EdgeTopology topo = build_topology(mesh);

@@ -26,6 +26,7 @@ struct RepairOptions {
 struct RepairReport {
   std::uint64_t merged_vertices = 0;         // T9: vertices of open edges merged into a neighbour within merge_mm
   std::uint64_t unused_vertices = 0;         // vertices no face referenced
+  std::uint64_t flipped_caps = 0;            // T5: zero-area faces with a vertex inside an edge, flipped away
   std::uint64_t degenerate_faces = 0;        // T5: repeated vertex or zero area, removed
   std::uint64_t duplicate_faces = 0;         // T4: same three vertices as another face, removed
   std::uint64_t nonmanifold_edges = 0;       // T2: edges with three or more faces, before splitting

@@ -158,6 +158,43 @@ TEST(Repair, T5RemovesDegenerateFaces) {
   EXPECT_EQ(r.value().report.degenerate_faces, 2u);
 }
 
+// A cap, as meshers leave where an edge was split for a T-junction on one side only: the cube's
+// edge 2-3 split at its middle on the side face, the gap closed by a face of zero area. The cap
+// is flipped with the face across its long edge into two proper faces: nothing is removed, no
+// hole is filled, and nothing crosses (removing it left a hole whose only fill was the cap again,
+// which crossed its neighbours, and the decomposition refused such parts).
+TEST(Repair, T5FlipsACapIntoProperFaces) {
+  for (const double at : {0.5, 0.2, 0.9}) {
+    io::RawMesh m = test::cube();
+    // The side face y = 10 is {2, 6, 7, 3}: triangles (2, 6, 7) and (2, 7, 3); edge 3-2 runs along x at z = 0.
+    const auto mid = static_cast<std::uint32_t>(m.points.size());
+    m.points.push_back({10.0 * at, 10, 0});
+    bool split = false;
+    for (auto& t : m.triangles) {
+      for (int k = 0; k < 3 && !split; ++k) {
+        if (t[k] == 3 && t[(k + 1) % 3] == 2) {  // the side face's half-edge 3 -> 2
+          const std::uint32_t x = t[(k + 2) % 3];
+          t = {3, mid, x};
+          m.triangles.push_back({mid, 2, x});
+          split = true;
+        }
+      }
+    }
+    ASSERT_TRUE(split);
+    m.triangles.push_back({2, mid, 3});  // the cap: 2 -> mid and mid -> 3 pair the split halves, 3 -> 2 the bottom's 2 -> 3
+    RepairOptions o;
+    o.check_self_intersections = true;
+    auto r = repair(m, o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    expect_clean(r.value());
+    EXPECT_EQ(r.value().report.flipped_caps, 1u) << at;
+    EXPECT_EQ(r.value().report.degenerate_faces, 0u) << at;
+    EXPECT_EQ(r.value().report.holes_filled, 0u) << at;
+    EXPECT_EQ(r.value().report.self_intersecting_faces, 0u) << at;
+    EXPECT_NEAR(signed_volume(r.value().mesh), 1000.0, 1e-9) << at;
+  }
+}
+
 TEST(Repair, T6DetectsSelfIntersections) {
   io::RawMesh m = test::join(test::cube(), test::box({5, 5, 5}, {15, 15, 15}));
   auto r = repair(m);
