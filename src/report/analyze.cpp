@@ -99,6 +99,7 @@ std::string inspect_json(const mesh::LoadedPart& part, const std::string& path, 
   j["self_intersections_checked"] = checked;
   j["repairs"] = {{"merged_vertices", r.merged_vertices},
                   {"unused_vertices", r.unused_vertices},
+                  {"flipped_caps", r.flipped_caps},
                   {"degenerate_faces", r.degenerate_faces},
                   {"duplicate_faces", r.duplicate_faces},
                   {"nonmanifold_edges", r.nonmanifold_edges},
