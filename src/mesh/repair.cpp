@@ -163,17 +163,16 @@ std::optional<std::uint32_t> cap_edge(const Mesh& mesh, std::uint32_t f) {
 }  // namespace
 
 std::uint64_t flip_caps(Mesh& mesh) {
+  // After each flip the caps are looked at again: a cap whose neighbour was a cap too (a fan of
+  // collinear points) can flip once that neighbour has.
   std::uint64_t flipped = 0;
-  std::vector<char> tried(mesh.triangles.size(), 0);
   bool again = true;
   while (again && flipped < kMaxCapFlips) {
     again = false;
     const EdgeTopology topo = build_topology(mesh);
     for (std::uint32_t f = 0; f < mesh.triangles.size() && !again; ++f) {
-      if (tried[f]) continue;
       const auto h = cap_edge(mesh, f);
       if (!h) continue;
-      tried[f] = 1;
       // The cap is part of a closed surface: each of its edges has one other face, which agrees.
       bool closed = true;
       for (std::uint32_t e = 3 * f; e < 3 * f + 3 && closed; ++e) {

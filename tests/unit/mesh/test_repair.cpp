@@ -195,6 +195,40 @@ TEST(Repair, T5FlipsACapIntoProperFaces) {
   }
 }
 
+// Two caps in a fan (the edge split twice on one side): the first cap looked at has the second
+// across its long edge and can flip only after the second has.
+TEST(Repair, T5FlipsAFanOfCaps) {
+  io::RawMesh m = test::cube();
+  const auto m1 = static_cast<std::uint32_t>(m.points.size());
+  m.points.push_back({7, 10, 0});
+  m.points.push_back({3, 10, 0});
+  const std::uint32_t m2 = m1 + 1;
+  bool split = false;
+  for (auto& t : m.triangles) {
+    for (int k = 0; k < 3 && !split; ++k) {
+      if (t[k] == 3 && t[(k + 1) % 3] == 2) {  // the side face's half-edge 3 -> 2, now 3 -> m1 -> m2 -> 2
+        const std::uint32_t x = t[(k + 2) % 3];
+        t = {3, m1, x};
+        m.triangles.push_back({m1, m2, x});
+        m.triangles.push_back({m2, 2, x});
+        split = true;
+      }
+    }
+  }
+  ASSERT_TRUE(split);
+  m.triangles.push_back({m1, 2, m2});  // the inner cap, looked at first: its long edge m1-2 is the outer cap's
+  m.triangles.push_back({3, 2, m1});   // the outer cap, across the bottom's edge 2-3
+  RepairOptions o;
+  o.check_self_intersections = true;
+  auto r = repair(m, o);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  expect_clean(r.value());
+  EXPECT_EQ(r.value().report.flipped_caps, 2u);
+  EXPECT_EQ(r.value().report.degenerate_faces, 0u);
+  EXPECT_EQ(r.value().report.self_intersecting_faces, 0u);
+  EXPECT_NEAR(signed_volume(r.value().mesh), 1000.0, 1e-9);
+}
+
 TEST(Repair, T6DetectsSelfIntersections) {
   io::RawMesh m = test::join(test::cube(), test::box({5, 5, 5}, {15, 15, 15}));
   auto r = repair(m);
