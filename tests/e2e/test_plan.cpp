@@ -912,6 +912,44 @@ TEST(PlanVariants, DefaultPlanOfPartsMadeHereIsSupportFreeAndSound) {
   }
 }
 
+// MESH with a cap put in at its first edge shared with another face, as meshers leave one where
+// they split an edge for a T-junction on one side only: the face on one side split at the edge's
+// middle, the gap closed by a face of zero area.
+RawMesh with_cap(RawMesh mesh) {
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = mesh.triangles[f][k], c = mesh.triangles[f][(k + 1) % 3], x = mesh.triangles[f][(k + 2) % 3];
+      const core::Vec3 mid = (mesh.points[a] + mesh.points[c]) * 0.5;
+      const auto m = static_cast<std::uint32_t>(mesh.points.size());
+      mesh.points.push_back(mid);
+      mesh.triangles[f] = {a, m, x};
+      mesh.triangles.push_back({m, c, x});
+      mesh.triangles.push_back({a, c, m});  // the cap: a -> c pairs the other side's c -> a
+      return mesh;
+    }
+  }
+  return mesh;
+}
+
+// A T from this file's variants with a cap in its mesh: repair flips the cap into two proper faces,
+// so the part is a clean solid and decomposes as it does without it, support-free and grounded.
+// (Removing the cap left a hole whose only fill crossed its neighbours, and the decomposition
+// refused the part as self-intersecting: one direction on its end face instead.)
+TEST(PlanVariants, ATeeWithACapInItsMeshDecomposesSupportFree) {
+  TempDir dir;
+  const RawMesh tee = prism_xz({{0, 0}, {16, 0}, {16, 35}, {40, 35}, {40, 50}, {-24, 50}, {-24, 35}, {0, 35}}, 14);
+  const RawMesh capped = with_cap(tee);
+  ASSERT_EQ(capped.triangles.size(), tee.triangles.size() + 2);
+  expect_defaults_support_free_and_grounded(dir.path(), "tee_with_cap", capped);
+  const auto report = read_json(dir / "tee_with_cap" / "report.json");
+  EXPECT_EQ(report["strategy"], "decompose") << report["strategy_reason"];  // as the T without a cap (PlanVariants)
+  const auto inspect = run_cli("inspect --json '" + (dir / "tee_with_cap" / "part.stl").string() + "'");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.err;
+  const auto j = nlohmann::json::parse(inspect.out);
+  EXPECT_EQ(j["repairs"]["flipped_caps"].get<int>(), 1) << inspect.out;
+  EXPECT_EQ(j["self_intersecting_faces"].get<int>(), 0) << inspect.out;
+}
+
 // Real meshes from Debian's packages (OpenCASCADE's sample data, LinuxCNC's machine models) and a
 // 328k-triangle mesh made by bench/make_bench_mesh: `plan` with no flag gives a program the
 // read-back accepts (no head point in the plate or table, no region starting in mid-air, no stall,
