@@ -85,10 +85,26 @@ class PartMemo {
  public:
   explicit PartMemo(const mesh::RepairedMesh& part) : part_(part) {}
 
-  std::size_t crossing_faces() {
-    std::call_once(crossing_once_, [&] {
+  // The part as one solid for the decomposition's cuts: the part itself, or, where its surface
+  // crosses itself only because separate shells overlap (bodies put together without a union, as
+  // many exports leave them), those shells united (CGAL corefinement) and repaired again, when
+  // that leaves fewer faces crossing.
+  const mesh::RepairedMesh& solid() {
+    std::call_once(solid_once_, [&] {
       crossing_ = part_.self_intersecting.empty() ? mesh::self_intersecting_faces(part_.mesh).size() : part_.self_intersecting.size();
+      if (crossing_ > 0) united_ = united_shells(part_);
+      if (united_ && united_->self_intersecting.size() < crossing_) {
+        crossing_ = united_->self_intersecting.size();
+      } else {
+        united_.reset();
+      }
     });
+    return united_ ? *united_ : part_;
+  }
+
+  // Faces of solid() that cross another.
+  std::size_t crossing_faces() {
+    solid();
     return crossing_;
   }
 
@@ -101,7 +117,8 @@ class PartMemo {
       if (!slot) slot = std::make_shared<AxisEntry>();
       entry = slot;
     }
-    std::call_once(entry->once, [&] { entry->axis.emplace(analysis::centroidal_axis(part_.mesh, part_.topology, options)); });
+    const mesh::RepairedMesh& part = solid();
+    std::call_once(entry->once, [&] { entry->axis.emplace(analysis::centroidal_axis(part.mesh, part.topology, options)); });
     return *entry->axis;
   }
 
@@ -110,8 +127,29 @@ class PartMemo {
     std::once_flag once;
     std::optional<core::Result<analysis::CentroidalAxis>> axis;
   };
+  // PART's solid shells united, repaired, with its crossing faces listed; none when PART has a
+  // cavity or fewer than two shells, when a shell crosses itself, or when CGAL cannot unite them.
+  static std::optional<mesh::RepairedMesh> united_shells(const mesh::RepairedMesh& part) {
+    if (part.shells.size() < 2) return std::nullopt;
+    std::vector<mesh::Mesh> shells;
+    for (const mesh::Shell& s : part.shells) {
+      if (s.cavity || !s.closed) return std::nullopt;
+      mesh::Mesh m;
+      m.vertices = part.mesh.vertices;
+      m.triangles.assign(part.mesh.triangles.begin() + s.first_face, part.mesh.triangles.begin() + s.first_face + s.face_count);
+      if (!mesh::self_intersecting_faces(m).empty()) return std::nullopt;
+      shells.push_back(std::move(m));
+    }
+    auto united = mesh::unite(shells);
+    if (!united) return std::nullopt;
+    auto repaired = mesh::repair(io::RawMesh{std::move(united.value().vertices), std::move(united.value().triangles)}, mesh::RepairOptions{});
+    if (!repaired) return std::nullopt;
+    return std::move(repaired.value());
+  }
+
   const mesh::RepairedMesh& part_;
-  std::once_flag crossing_once_;
+  std::once_flag solid_once_;
+  std::optional<mesh::RepairedMesh> united_;
   std::size_t crossing_ = 0;
   std::mutex mutex_;
   std::map<std::array<double, 3>, std::shared_ptr<AxisEntry>> axes_;
@@ -359,9 +397,11 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   // The decomposition's exact cuts (CGAL corefinement) need a solid whose surface does not cross
   // itself. A few crossing faces, where a part's pieces were fused imperfectly (two_branches: 16
   // of 6 744), are cut through where the plane misses them; a surface where many cross is a pile of
-  // overlapping bodies, on which the cuts are undefined and can run for minutes.
+  // overlapping bodies, on which the cuts are undefined and can run for minutes. Separate bodies
+  // that overlap are united first (PartMemo::solid).
+  const mesh::RepairedMesh& solid = memo.solid();
   const std::size_t crossing = memo.crossing_faces();
-  if (static_cast<double>(crossing) > kMaxCrossingShare * static_cast<double>(part.mesh.triangles.size())) {
+  if (static_cast<double>(crossing) > kMaxCrossingShare * static_cast<double>(solid.mesh.triangles.size())) {
     return core::make_error(core::ErrorCode::kInfeasible,
                             fmt::format("the part's surface crosses itself ({} faces): the cuts between regions need a clean solid", crossing));
   }
@@ -380,7 +420,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   dopt.reach_deg = detail::direction_reach_rad(machine, process) * 180.0 / std::numbers::pi;
   dopt.min_region_mm = process.layer_min_mm;
   dopt.stop = stop;
-  auto tree = analysis::decompose(part.mesh, axis.value(), dopt);
+  auto tree = analysis::decompose(solid.mesh, axis.value(), dopt);
   if (!tree) return tree.error();
   if (stop != nullptr && stop->load()) return core::make_error(core::ErrorCode::kInfeasible, "not wanted any more");
   if (root_at_lowest != nullptr) {
@@ -416,7 +456,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
                                      o.decompose_budget_facet_visits, tree.value().regions.size()));
   }
   std::vector<PlanRegion> regions;
-  const double part_volume = std::abs(mesh::signed_volume(part.mesh));
+  const double part_volume = std::abs(mesh::signed_volume(solid.mesh));
   for (const analysis::Region& r : tree.value().regions) {  // parents come before children
     if (supplied_by_plate(r, tree.value().regions.front(), process, part_volume)) {
       c.warnings.push_back(fmt::format("region {} ({:.1f} mm3) lies in the substrate plate under the root's base: the plate supplies it "

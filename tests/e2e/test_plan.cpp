@@ -950,6 +950,24 @@ TEST(PlanVariants, ATeeWithACapInItsMeshDecomposesSupportFree) {
   EXPECT_EQ(j["self_intersecting_faces"].get<int>(), 0) << inspect.out;
 }
 
+// An L-block drawn as two overlapping boxes, not united (as many exports leave separate bodies):
+// the surface crosses itself where they overlap, and the decomposition's cuts need a solid. The
+// shells are united first and the part decomposes as the reference L-block does: two regions, the
+// arm built along X, support-free, grounded, with the L-block's deposit. (Before: refused as
+// self-intersecting, one build direction turned over.)
+TEST(PlanVariants, AnLBlockOfTwoOverlappingBoxesIsUnitedAndDecomposed) {
+  TempDir dir;
+  const RawMesh overlapping = join(box({0, 0, 0}, {20, 20, 60}), box({5, 0, 40}, {70, 20, 60}));
+  expect_defaults_support_free_and_grounded(dir.path(), "overlap", overlapping);
+  const auto report = read_json(dir / "overlap" / "report.json");
+  EXPECT_EQ(report["strategy"], "decompose") << report["strategy_reason"];
+  EXPECT_EQ(report["regions"].get<int>(), 2);
+  const auto plan = read_json(dir / "overlap" / "plan.json");
+  double volume = 0.0;
+  for (const auto& r : plan["regions"]) volume += r["volume_mm3"].get<double>();
+  EXPECT_NEAR(volume, 44000.0, 1.0);  // the union's, not the two boxes' 50 000
+}
+
 // Real meshes from Debian's packages (OpenCASCADE's sample data, LinuxCNC's machine models) and a
 // 328k-triangle mesh made by bench/make_bench_mesh: `plan` with no flag gives a program the
 // read-back accepts (no head point in the plate or table, no region starting in mid-air, no stall,
