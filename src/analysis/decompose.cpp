@@ -16,6 +16,7 @@
 #include "polyaxis/mesh/plane_cut.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/topology.h"
+#include "polyaxis/mesh/self_intersections.h"
 #include "build_order.h"
 #include "patch_split.h"
 #include "region_geometry.h"
@@ -585,6 +586,25 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
   }
   detail::order_by_support(tree.regions);
   return tree;
+}
+
+core::Result<const mesh::RepairedMesh*> cuttable_solid(const mesh::RepairedMesh& part, std::optional<mesh::RepairedMesh>& united,
+                                                       std::size_t& crossing) {
+  crossing = part.self_intersecting.empty() ? mesh::self_intersecting_faces(part.mesh).size() : part.self_intersecting.size();
+  const mesh::RepairedMesh* solid = &part;
+  if (crossing > 0) {
+    united = mesh::unite_overlapping_shells(part);
+    if (united && united->self_intersecting.size() < crossing) {
+      solid = &*united, crossing = united->self_intersecting.size();
+    } else {
+      united.reset();
+    }
+  }
+  if (static_cast<double>(crossing) > kMaxCrossingShare * static_cast<double>(solid->mesh.triangles.size())) {
+    return core::make_error(core::ErrorCode::kInfeasible,
+                            fmt::format("the part's surface crosses itself ({} faces): the cuts between regions need a clean solid", crossing));
+  }
+  return solid;
 }
 
 }  // namespace polyaxis::analysis

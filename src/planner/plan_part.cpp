@@ -62,8 +62,6 @@ std::string describe(const verify::Collision& c) {
                      c.tip.z, c.body, c.depth_mm);
 }
 
-// Share of a part's faces that may cross another face for it to be decomposed.
-constexpr double kMaxCrossingShare = 0.01;
 // A root base within this of the part's lowest point (along the root's direction) is that point.
 constexpr double kSameBaseMm = 1e-6;
 
@@ -85,27 +83,11 @@ class PartMemo {
  public:
   explicit PartMemo(const mesh::RepairedMesh& part) : part_(part) {}
 
-  // The part as one solid for the decomposition's cuts: the part itself, or, where its surface
-  // crosses itself only because separate shells overlap (bodies put together without a union, as
-  // many exports leave them), those shells united (CGAL corefinement) and repaired again, when
-  // that leaves fewer faces crossing.
-  const mesh::RepairedMesh& solid() {
-    std::call_once(solid_once_, [&] {
-      crossing_ = part_.self_intersecting.empty() ? mesh::self_intersecting_faces(part_.mesh).size() : part_.self_intersecting.size();
-      if (crossing_ > 0) united_ = united_shells(part_);
-      if (united_ && united_->self_intersecting.size() < crossing_) {
-        crossing_ = united_->self_intersecting.size();
-      } else {
-        united_.reset();
-      }
-    });
-    return united_ ? *united_ : part_;
-  }
-
-  // Faces of solid() that cross another.
-  std::size_t crossing_faces() {
-    solid();
-    return crossing_;
+  // The part as one solid for the decomposition's cuts (analysis::cuttable_solid: the part, or its
+  // overlapping bodies united), or why there is none.
+  const core::Result<const mesh::RepairedMesh*>& solid() {
+    std::call_once(solid_once_, [&] { solid_.emplace(analysis::cuttable_solid(part_, united_, crossing_)); });
+    return *solid_;
   }
 
   const core::Result<analysis::CentroidalAxis>& axis(const analysis::CentroidalAxisOptions& options) {
@@ -117,7 +99,7 @@ class PartMemo {
       if (!slot) slot = std::make_shared<AxisEntry>();
       entry = slot;
     }
-    const mesh::RepairedMesh& part = solid();
+    const mesh::RepairedMesh& part = solid() ? *solid().value() : part_;
     std::call_once(entry->once, [&] { entry->axis.emplace(analysis::centroidal_axis(part.mesh, part.topology, options)); });
     return *entry->axis;
   }
@@ -127,30 +109,11 @@ class PartMemo {
     std::once_flag once;
     std::optional<core::Result<analysis::CentroidalAxis>> axis;
   };
-  // PART's solid shells united, repaired, with its crossing faces listed; none when PART has a
-  // cavity or fewer than two shells, when a shell crosses itself, or when CGAL cannot unite them.
-  static std::optional<mesh::RepairedMesh> united_shells(const mesh::RepairedMesh& part) {
-    if (part.shells.size() < 2) return std::nullopt;
-    std::vector<mesh::Mesh> shells;
-    for (const mesh::Shell& s : part.shells) {
-      if (s.cavity || !s.closed) return std::nullopt;
-      mesh::Mesh m;
-      m.vertices = part.mesh.vertices;
-      m.triangles.assign(part.mesh.triangles.begin() + s.first_face, part.mesh.triangles.begin() + s.first_face + s.face_count);
-      if (!mesh::self_intersecting_faces(m).empty()) return std::nullopt;
-      shells.push_back(std::move(m));
-    }
-    auto united = mesh::unite(shells);
-    if (!united) return std::nullopt;
-    auto repaired = mesh::repair(io::RawMesh{std::move(united.value().vertices), std::move(united.value().triangles)}, mesh::RepairOptions{});
-    if (!repaired) return std::nullopt;
-    return std::move(repaired.value());
-  }
-
   const mesh::RepairedMesh& part_;
   std::once_flag solid_once_;
   std::optional<mesh::RepairedMesh> united_;
   std::size_t crossing_ = 0;
+  std::optional<core::Result<const mesh::RepairedMesh*>> solid_;
   std::mutex mutex_;
   std::map<std::array<double, 3>, std::shared_ptr<AxisEntry>> axes_;
 };
@@ -394,17 +357,10 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
                                         const process::ProcessConfig& process, const PlanPartOptions& o,
                                         const analysis::RootBase& root_base, PartMemo& memo, const std::atomic<bool>* stop = nullptr,
                                         bool* root_at_lowest = nullptr) {
-  // The decomposition's exact cuts (CGAL corefinement) need a solid whose surface does not cross
-  // itself. A few crossing faces, where a part's pieces were fused imperfectly (two_branches: 16
-  // of 6 744), are cut through where the plane misses them; a surface where many cross is a pile of
-  // overlapping bodies, on which the cuts are undefined and can run for minutes. Separate bodies
-  // that overlap are united first (PartMemo::solid).
-  const mesh::RepairedMesh& solid = memo.solid();
-  const std::size_t crossing = memo.crossing_faces();
-  if (static_cast<double>(crossing) > kMaxCrossingShare * static_cast<double>(solid.mesh.triangles.size())) {
-    return core::make_error(core::ErrorCode::kInfeasible,
-                            fmt::format("the part's surface crosses itself ({} faces): the cuts between regions need a clean solid", crossing));
-  }
+  // A solid the cuts can take: the part, or its overlapping bodies united (analysis::cuttable_solid).
+  const auto& cuttable = memo.solid();
+  if (!cuttable) return cuttable.error();
+  const mesh::RepairedMesh& solid = *cuttable.value();
   auto root_dir = analysis::root_direction(part.mesh, root_base, o.direction);
   if (!root_dir) return root_dir.error();
   analysis::CentroidalAxisOptions axis_options;

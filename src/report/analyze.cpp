@@ -37,11 +37,18 @@ core::Result<PartAnalysis> analyze_part(const mesh::RepairedMesh& part, const An
   out.overhang = analysis::overhang_map(part.mesh, part.topology, out.root_direction, radians(o.self_supporting_deg));
   out.times.overhang_s = since(t);
 
+  // A solid the cuts can take: the part, or its overlapping bodies united; a surface that crosses
+  // itself otherwise is refused (CGAL's cuts are undefined on it). The axis is the solid's.
+  std::optional<mesh::RepairedMesh> united;
+  std::size_t crossing = 0;
+  auto solid = analysis::cuttable_solid(part, united, crossing);
+  if (!solid) return solid.error();
+
   t = Clock::now();
   analysis::CentroidalAxisOptions axis_options;
   axis_options.start_direction = analysis::nearest_major_direction(out.root_direction);
   axis_options.break_angle_deg = o.break_angle_deg;
-  auto axis = analysis::centroidal_axis(part.mesh, part.topology, axis_options);
+  auto axis = analysis::centroidal_axis(solid.value()->mesh, solid.value()->topology, axis_options);
   if (!axis) return axis.error();
   out.axis = std::move(axis.value());
   out.times.axis_s = since(t);
@@ -61,7 +68,7 @@ core::Result<PartAnalysis> analyze_part(const mesh::RepairedMesh& part, const An
   dopt.root_direction = out.root_direction;
   dopt.root_base = o.root_base;
   dopt.self_supporting_deg = o.self_supporting_deg;
-  auto tree = analysis::decompose(part.mesh, out.axis, dopt);
+  auto tree = analysis::decompose(solid.value()->mesh, out.axis, dopt);
   if (!tree) return tree.error();
   out.tree = std::move(tree.value());
   out.times.decompose_s = since(t);

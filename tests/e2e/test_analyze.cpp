@@ -8,6 +8,7 @@
 
 #include "polyaxis/io/read_part.h"
 #include "support/cli.h"
+#include "support/meshes.h"
 
 namespace polyaxis::test {
 namespace {
@@ -57,6 +58,29 @@ TEST(AnalyzeCli, TwoBranchesWritesTheSchemaAndOneStlPerRegion) {
     total += v;
   }
   EXPECT_NEAR(total, 14717.2, 0.001 * 14717.2);  // parts/README.md
+}
+
+// Bodies put together without a union: an L-block of two overlapping boxes is united and
+// decomposed as the L-block is (two regions, 44 000 mm3; the cuts crashed in CGAL on the crossing
+// faces before). Two boxes, one of them crossing itself (a corner pushed through the opposite
+// face), cannot be united: refused with the reason, exit 4, nothing written.
+TEST(AnalyzeCli, OverlappingBodiesAreUnitedAndASurfaceCrossingItselfIsRefused) {
+  TempDir dir;
+  const auto l = dir / "overlap.stl";
+  write_file(l, binary_stl(join(box({0, 0, 0}, {20, 20, 60}), box({5, 0, 40}, {70, 20, 60}))));
+  const auto r = run_cli("analyze '" + l.string() + "' -o '" + (dir / "l").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto doc = nlohmann::json::parse(slurp(dir / "l" / "analysis.json"));
+  ASSERT_EQ(doc["regions"].size(), 2u);
+  EXPECT_NEAR(doc["regions"][0]["volume_mm3"].get<double>() + doc["regions"][1]["volume_mm3"].get<double>(), 44000.0, 1.0);
+  io::RawMesh folded = box({0, 0, 0}, {20, 20, 20});
+  folded.points[7] = {-10, 10, 10};  // the corner (20, 20, 20) pushed through the face x = 0
+  const auto bad = dir / "folded.stl";
+  write_file(bad, binary_stl(join(folded, box({10, 0, 10}, {40, 20, 30}))));
+  const auto f = run_cli("analyze '" + bad.string() + "' -o '" + (dir / "f").string() + "'");
+  EXPECT_EQ(f.exit_code, 4) << f.err;  // infeasible geometry
+  EXPECT_NE(f.err.find("crosses itself"), std::string::npos) << f.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "f" / "analysis.json"));
 }
 
 }  // namespace

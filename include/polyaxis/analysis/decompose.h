@@ -11,6 +11,7 @@
 #include "polyaxis/analysis/centroidal_axis.h"
 #include "polyaxis/core/result.h"
 #include "polyaxis/mesh/mesh.h"
+#include "polyaxis/mesh/repair.h"
 
 namespace polyaxis::analysis {
 
@@ -121,5 +122,18 @@ inline constexpr double kExactCutVisitsPerFacet = 2000.0;
 // each after its parent and every region its base lies on (rests_on). A region that stays unsupported says so (support_free false, its area). Cost: O(F) per
 // candidate screened plus one or a few CGAL cuts per region made; milliseconds for the reference parts.
 core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis& axis, const DecomposeOptions& options = {});
+
+// The decomposition's exact cuts (CGAL corefinement) need a solid whose surface does not cross
+// itself. A few crossing faces, where a part's pieces were fused imperfectly (two_branches: 16 of
+// 6 744), are cut through where the plane misses them; a surface where more than this share of the
+// faces cross is a pile of overlapping bodies, on which the cuts are undefined (CGAL can crash).
+inline constexpr double kMaxCrossingShare = 0.01;
+
+// The solid to decompose for PART: PART itself, or its overlapping bodies united
+// (mesh::unite_overlapping_shells) when that leaves fewer faces crossing, held in UNITED. CROSSING
+// is set to the solid's crossing faces. Error kInfeasible, naming them, when more than
+// kMaxCrossingShare of its faces cross.
+core::Result<const mesh::RepairedMesh*> cuttable_solid(const mesh::RepairedMesh& part, std::optional<mesh::RepairedMesh>& united,
+                                                       std::size_t& crossing);
 
 }  // namespace polyaxis::analysis

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,5 +61,11 @@ struct RepairedMesh {
 // (kInfeasible). Deterministic. Cost: O(n) for the topology passes plus the self-intersection
 // check (box intersection, O(n log n) typical).
 core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options = {});
+
+// PART's solid shells united into one solid (CGAL corefinement) and repaired again, with its
+// self-intersecting faces listed: for a part of separate bodies that overlap, put together without
+// a union as many exports leave them. None when PART has fewer than two shells, a cavity or an
+// open shell, when a body crosses itself, or when CGAL cannot unite them. Cost: O(F log F) a shell.
+std::optional<RepairedMesh> unite_overlapping_shells(const RepairedMesh& part);
 
 }  // namespace polyaxis::mesh
