@@ -97,7 +97,10 @@ struct DecomposeOptions {
 // What one exact cut (CGAL, exact kernel) costs against the work budget, per facet of the region cut.
 inline constexpr double kExactCutVisitsPerFacet = 2000.0;
 
-// Splits MESH into regions along AXIS (Ruan 2006 §4.1, checked by overhang; docs/analyze.md):
+// Splits MESH into regions along AXIS (Ruan 2006 §4.1, checked by overhang; docs/analyze.md).
+// MESH must be a solid whose surface does not cross itself beyond a few faces (cuttable_solid
+// below finds one or says why not): CGAL's exact cuts are undefined on one that does.
+//
 //  * The root is built along root_direction from the plate: the downward planar face where the
 //    axis's root branch starts (a body on feet: the body's underside), else the lowest one. Shells
 //    below the plate become regions built the opposite way. options.root_base pins the base
