@@ -218,8 +218,10 @@ core::Status first_deposit_on_plate(const Plan& plan, const process::ProcessConf
     const std::uint32_t region = plan.region_of_layer[lt.layer];
     return core::make_error(core::ErrorCode::kInfeasible,
                             fmt::format("region {} would start {:.2f} mm above the substrate, in mid-air: its layers below are thinner "
-                                        "than a bead ({:.2f} mm); another root base (--root-base) or --strategy single would ground it",
-                                        region, low, process.bead_width_mm));
+                                        "than a bead ({:.2f} mm); {} would ground it",
+                                        region, low, process.bead_width_mm,
+                                        plan.placed_regions.size() > 1 ? "another root base (--root-base) or --strategy single"
+                                                                       : "another build direction (--dir) standing the part on a face"));
   }
   return {};
 }
