@@ -204,10 +204,7 @@ std::uint64_t remove_degenerate_faces(Mesh& mesh) {
   std::size_t out = 0;
   for (std::size_t f = 0; f < before; ++f) {
     const Triangle t = mesh.triangles[f];
-    const bool repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-    const Vec3 n = face_area_vector(mesh, f);
-    constexpr double kMinTwiceArea = 2.0 * core::kDegenerateAreaMm2;
-    if (repeated || dot(n, n) < kMinTwiceArea * kMinTwiceArea) continue;
+    if (degenerate(mesh, t)) continue;
     mesh.triangles[out++] = t;
   }
   mesh.triangles.resize(out);
