@@ -28,8 +28,8 @@ int run_inspect(const InspectOptions& options) {
   const mesh::Mesh& m = part.repaired.mesh;
   const mesh::RepairReport& r = part.repaired.report;
   const core::Box3 box = mesh::bounding_box(m);
-  double volume = 0.0, area = 0.0;  // repair measured every shell already
-  for (const auto& s : part.repaired.shells) volume += s.volume_mm3, area += s.area_mm2;
+  const report::SolidMeasure measure = report::solid_measure(part.repaired);
+  const double volume = measure.volume_mm3, area = measure.area_mm2;
   const double overhang = mesh::overhang_area(m, {0, 0, 1}, options.self_supporting_deg * kPi / 180.0);
   std::size_t cavities = 0;
   for (const auto& s : part.repaired.shells) cavities += s.cavity ? 1 : 0;
@@ -48,7 +48,7 @@ int run_inspect(const InspectOptions& options) {
   std::printf("vertices      %zu\n", m.vertices.size());
   std::printf("bbox min      %.4f %.4f %.4f\n", box.min.x, box.min.y, box.min.z);
   std::printf("bbox max      %.4f %.4f %.4f\n", box.max.x, box.max.y, box.max.z);
-  std::printf("volume        %.3f mm3\n", volume);
+  std::printf("volume        %.3f mm3%s\n", volume, measure.united ? " (the overlapping bodies united)" : "");
   std::printf("area          %.3f mm2\n", area);
   std::printf("shells        %zu (%zu cavities)\n", part.repaired.shells.size(), cavities);
   std::printf("watertight    %s\n", part.repaired.watertight ? "yes" : "no");

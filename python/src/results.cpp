@@ -6,6 +6,7 @@
 
 #include "bindings.h"
 #include "polyaxis/post/program.h"
+#include "polyaxis/report/analyze.h"
 #include "polyaxis/report/lamination_files.h"
 #include "polyaxis/report/plan_files.h"
 #include "polyaxis/report/plan_set.h"
@@ -123,12 +124,7 @@ void bind_part(py::module_& m) {
           "(m, 3) uint32 vertex indices, counter-clockwise seen from outside, read-only view")
       .def_property_readonly("warnings", [](const Part& p) { return p.loaded->warnings; })
       .def_property_readonly("watertight", [](const Part& p) { return p.loaded->repaired.watertight; })
-      .def_property_readonly("volume_mm3",
-                             [](const Part& p) {
-                               double v = 0.0;
-                               for (const auto& s : p.loaded->repaired.shells) v += s.volume_mm3;
-                               return v;
-                             })
+      .def_property_readonly("volume_mm3", [](const Part& p) { return report::solid_measure(p.loaded->repaired).volume_mm3; })
       .def("__repr__", [](const Part& p) {
         return fmt::format("<polyaxis.Part {} ({} triangles)>", p.name, p.loaded->repaired.mesh.triangles.size());
       });

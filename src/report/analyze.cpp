@@ -75,12 +75,25 @@ core::Result<PartAnalysis> analyze_part(const mesh::RepairedMesh& part, const An
   return out;
 }
 
+SolidMeasure solid_measure(const mesh::RepairedMesh& part) {
+  SolidMeasure out;
+  if (!part.self_intersecting.empty()) {
+    if (const auto united = mesh::unite_overlapping_shells(part); united && united->self_intersecting.size() < part.self_intersecting.size()) {
+      out.united = true;
+      for (const auto& s : united->shells) out.volume_mm3 += s.volume_mm3, out.area_mm2 += s.area_mm2;
+      return out;
+    }
+  }
+  for (const auto& s : part.shells) out.volume_mm3 += s.volume_mm3, out.area_mm2 += s.area_mm2;  // repair measured every shell already
+  return out;
+}
+
 std::string inspect_json(const mesh::LoadedPart& part, const std::string& path, double self_supporting_deg, bool checked) {
   const mesh::Mesh& m = part.repaired.mesh;
   const mesh::RepairReport& r = part.repaired.report;
   const core::Box3 box = mesh::bounding_box(m);
-  double volume = 0.0, area = 0.0;  // repair measured every shell already
-  for (const auto& s : part.repaired.shells) volume += s.volume_mm3, area += s.area_mm2;
+  const SolidMeasure measure = solid_measure(part.repaired);
+  const double volume = measure.volume_mm3, area = measure.area_mm2;
   const double overhang = mesh::overhang_area(m, {0, 0, 1}, radians(self_supporting_deg));
   std::size_t cavities = 0;
   for (const auto& s : part.repaired.shells) cavities += s.cavity ? 1 : 0;
@@ -92,6 +105,7 @@ std::string inspect_json(const mesh::LoadedPart& part, const std::string& path, 
   j["bbox"] = {{"min", vec_json(box.min)}, {"max", vec_json(box.max)}, {"size", vec_json(box.size())}};
   j["volume_mm3"] = volume;
   j["area_mm2"] = area;
+  j["bodies_united"] = measure.united;
   j["shells"] = part.repaired.shells.size();
   j["cavities"] = cavities;
   nlohmann::json shells = nlohmann::json::array();

@@ -62,7 +62,7 @@ TEST(AnalyzeCli, TwoBranchesWritesTheSchemaAndOneStlPerRegion) {
 
 // Bodies put together without a union: an L-block of two overlapping boxes is united and
 // decomposed as the L-block is (two regions, 44 000 mm3; the cuts crashed in CGAL on the crossing
-// faces before). Two boxes, one of them crossing itself (a corner pushed through the opposite
+// faces before), and inspect gives the union's volume. Two boxes, one of them crossing itself (a corner pushed through the opposite
 // face), cannot be united: refused with the reason, exit 4, nothing written.
 TEST(AnalyzeCli, OverlappingBodiesAreUnitedAndASurfaceCrossingItselfIsRefused) {
   TempDir dir;
@@ -73,6 +73,13 @@ TEST(AnalyzeCli, OverlappingBodiesAreUnitedAndASurfaceCrossingItselfIsRefused) {
   const auto doc = nlohmann::json::parse(slurp(dir / "l" / "analysis.json"));
   ASSERT_EQ(doc["regions"].size(), 2u);
   EXPECT_NEAR(doc["regions"][0]["volume_mm3"].get<double>() + doc["regions"][1]["volume_mm3"].get<double>(), 44000.0, 1.0);
+  // inspect measures the union too (the shells' sum is 50 000 mm3), and says so.
+  const auto i = run_cli("inspect --json '" + l.string() + "'");
+  ASSERT_EQ(i.exit_code, 0) << i.err;
+  const auto inspected = nlohmann::json::parse(i.out);
+  EXPECT_NEAR(inspected["volume_mm3"].get<double>(), 44000.0, 1e-6);
+  EXPECT_TRUE(inspected["bodies_united"].get<bool>());
+  EXPECT_EQ(inspected["shells"].get<int>(), 2);
   io::RawMesh folded = box({0, 0, 0}, {20, 20, 20});
   folded.points[7] = {-10, 10, 10};  // the corner (20, 20, 20) pushed through the face x = 0
   const auto bad = dir / "folded.stl";

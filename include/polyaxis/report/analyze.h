@@ -38,6 +38,15 @@ struct PartAnalysis {
 // (analysis::root_direction, centroidal_axis, skeleton, decompose).
 core::Result<PartAnalysis> analyze_part(const mesh::RepairedMesh& part, const AnalyzeOptions& options = {});
 
+// PART's volume and surface as a solid: the sums over its shells (cavities subtract), or, where
+// separate bodies overlap (faces crossing, found by repair's self-intersection check), those of
+// their union (mesh::unite_overlapping_shells), which UNITED then says.
+struct SolidMeasure {
+  double volume_mm3 = 0.0, area_mm2 = 0.0;
+  bool united = false;
+};
+SolidMeasure solid_measure(const mesh::RepairedMesh& part);
+
 // `polyaxis inspect --json` for PART read from PATH (docs/inspect.md): sizes, shells, repairs and
 // the overhang along +Z at SELF_SUPPORTING_DEG (from vertical, degrees). CHECKED: whether the
 // self-intersection check ran.
