@@ -178,6 +178,18 @@ core::Result<Mesh> difference(const Mesh& a, const Mesh& b) {
   return to_mesh(out);
 }
 
+core::Result<Mesh> without_crossings(const Mesh& mesh) {
+  SurfaceMesh sm = to_surface_mesh(mesh);
+  try {
+    if (!PMP::experimental::autorefine_and_remove_self_intersections(sm)) {
+      return core::make_error(core::ErrorCode::kInfeasible, "the surface's crossing faces could not all be removed");
+    }
+  } catch (const std::exception& e) {
+    return core::make_error(core::ErrorCode::kInfeasible, std::string("the surface's crossing faces could not be removed: ") + e.what());
+  }
+  return to_mesh(sm);
+}
+
 Mesh grown(const Mesh& mesh, double by_mm) {
   std::vector<core::Vec3> normal(mesh.vertices.size());
   for (const Triangle& t : mesh.triangles) {

@@ -277,18 +277,24 @@ PlanRegion on_substrate_region(std::uint32_t id, mesh::Mesh piece, Vec3 d) {
 // The part less the substrate (--substrate), and the surface its pieces stand on.
 struct OnSubstrate {
   mesh::Mesh rest;  // what is deposited
-  mesh::Mesh skin;  // the substrate grown by kSubstrateSkinMm (or as given, where that would fold)
+  mesh::Mesh skin;  // the substrate grown by kSubstrateSkinMm, its outer surface where that folds
 };
 
 // The part less O.substrate. The substrate grown by a skin: where the part's surface and the
 // substrate's are two tessellations of one surface (a hub exported apart from its impeller), a
 // sliver of the part would be left over the substrate and join every piece into one. A substrate
-// with a gap or a feature thinner than twice the skin folds when grown (its faces cross, and the
-// difference would be garbage): then the substrate as given.
+// with a gap or a feature thinner than twice the skin, or slivers along a union's seam, folds when
+// grown (its faces cross, and the difference would be garbage): then the skin's outer surface
+// (mesh::without_crossings), and only when that fails the substrate as given. Its faces lie on the
+// part's, which CGAL's corefinement may never finish with: two_branches less its trunk and one
+// arm, the skin folded along the seam of the two, ran for 16 minutes before the outer surface.
 core::Result<OnSubstrate> part_less_substrate(const mesh::RepairedMesh& part, const PlanPartOptions& o) {
   OnSubstrate out;
   out.skin = mesh::grown(*o.substrate, kSubstrateSkinMm);
-  if (!mesh::self_intersecting_faces(out.skin).empty()) out.skin = *o.substrate;
+  if (!mesh::self_intersecting_faces(out.skin).empty()) {
+    auto outer = mesh::without_crossings(out.skin);
+    out.skin = outer && mesh::self_intersecting_faces(outer.value()).empty() ? std::move(outer.value()) : *o.substrate;
+  }
   auto rest = mesh::difference(part.mesh, out.skin);
   if (!rest) return core::make_error(rest.error().code, "--substrate: the part less the substrate: " + rest.error().message);
   if (rest.value().triangles.empty()) {

@@ -10,6 +10,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "polyaxis/io/read_part.h"
+#include "polyaxis/mesh/plane_cut.h"
+#include "polyaxis/mesh/properties.h"
+#include "polyaxis/mesh/repair.h"
 #include "support/cli.h"
 #include "support/mesh_union.h"
 #include "support/meshes.h"
@@ -257,10 +261,10 @@ RawMesh other_diagonals(RawMesh frustum) {
   return frustum;
 }
 
-// A substrate of two blocks closer than twice the skin: grown, they would cross and the
-// difference would take the whole part (exit 4, "nothing to build"); the substrate is then taken
-// as given, and the boss standing on both is deposited.
-TEST(PlanSubstrate, ASubstrateWhoseGrownSkinWouldFoldIsTakenAsGiven) {
+// A substrate of two blocks closer than twice the skin: grown, they cross, and the difference
+// with that skin took the whole part (exit 4, "nothing to build"); the skin's outer surface is
+// taken instead (the two blocks' skins as one), and the boss standing on both is deposited.
+TEST(PlanSubstrate, ASubstrateWhoseGrownSkinFoldsIsPlanned) {
   for (const double gap : {0.01, 0.03}) {
     SCOPED_TRACE(gap);
     TempDir dir;
@@ -277,6 +281,38 @@ TEST(PlanSubstrate, ASubstrateWhoseGrownSkinWouldFoldIsTakenAsGiven) {
     EXPECT_GT(deposited, 0.9 * M_PI * 25.0 * 15.0);  // the boss above the blocks
     const RawMesh on_table = placed(substrate, plan);
     check_readback(dir.path(), "boss", false, &on_table);
+  }
+}
+
+// A substrate cut from the part itself below a plane through the seam of its union (two_branches:
+// OpenSCAD left slivers where the 64-sided trunk meets the 48-sided arm), so that its faces lie on
+// the part's: grown by the skin it crosses itself along the seam, and the part less the substrate
+// as given never finished (16 minutes in CGAL's corefinement before it was stopped). Now the skin's
+// outer surface is taken: the plan finishes, deposits only what stands above the cut, onto it.
+TEST(PlanSubstrate, ASubstrateCutFromThePartAcrossItsSeamIsPlanned) {
+  auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/two_branches.stl");
+  ASSERT_TRUE(read.ok());
+  auto repaired = mesh::repair(read.value().mesh);
+  ASSERT_TRUE(repaired.ok());
+  const mesh::Mesh& part = repaired.value().mesh;
+  for (const double z : {35.0, 50.0}) {
+    SCOPED_TRACE(z);
+    auto cut = mesh::cut_by_plane(part, {0, 0, z}, {0, 0, 1});
+    ASSERT_TRUE(cut.ok());
+    TempDir dir;
+    const RawMesh substrate{cut.value().below.vertices, cut.value().below.triangles};
+    write_file(dir / "stump.stl", binary_stl(substrate));
+    const auto r = run_cli("plan '" + std::string(POLYAXIS_PARTS_DIR) + "/two_branches.stl' --substrate '" + (dir / "stump.stl").string() +
+                           "' --strategy single --layers planar --no-html -o '" + dir.path().string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto plan = read_json(dir / "plan.json");
+    ASSERT_EQ(plan["regions"].size(), 2u);
+    const double above = mesh::signed_volume(part) - mesh::signed_volume(cut.value().below);
+    EXPECT_NEAR(plan["regions"][1]["volume_mm3"].get<double>(), above, 0.01 * above);
+    for (const auto& l : plan["layers"]) EXPECT_EQ(l["region"].get<int>(), 1);
+    const RawMesh on_table = placed(substrate, plan);
+    check_readback(dir.path(), "two_branches", false, &on_table);
+    EXPECT_GT(lowest_deposit_z(dir.path(), "two_branches"), z - 1.0);  // on the stump, not on the plate
   }
 }
 

@@ -51,6 +51,13 @@ core::Result<Mesh> unite(const std::vector<Mesh>& pieces);
 // that would not be a manifold, such as solids meeting along an edge only). Cost: O(F log F).
 core::Result<Mesh> difference(const Mesh& a, const Mesh& b);
 
+// The surface of the solid that MESH (closed, outward) bounds where its faces cross one another:
+// the faces are split along their crossings and the parts inside the solid dropped (CGAL's
+// autorefinement). Meant for a surface grown() a little, whose faces cross where it was folded
+// fine (slivers along the seam of a union), before it is used in difference(). MESH itself when
+// no faces cross. Error kInfeasible when CGAL cannot remove every crossing. Cost: O(F log F).
+core::Result<Mesh> without_crossings(const Mesh& mesh);
+
 // MESH with every vertex moved BY_MM along its angle-weighted normal (outwards for an outward
 // mesh; inwards for a negative BY_MM): a smooth surface moves by BY_MM, faces meeting at an edge or
 // a corner less (a cube's faces by BY_MM/√3). Meant for small offsets, below half the thinnest

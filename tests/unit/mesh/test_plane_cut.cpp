@@ -4,6 +4,7 @@
 #include "polyaxis/mesh/plane_cut.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/repair.h"
+#include "polyaxis/mesh/self_intersections.h"
 #include "polyaxis/mesh/topology.h"
 #include "support/meshes.h"
 
@@ -158,6 +159,43 @@ TEST(Grown, MovesSmoothSurfacesByTheOffsetAndCornersAlongTheirMeanNormal) {
   const auto none = difference(cube, grown(cube, 1e-3));
   ASSERT_TRUE(none.ok());
   EXPECT_TRUE(none.value().triangles.empty());
+}
+
+// A union's surface with slivers along its seam (OpenSCAD's union of a 64-sided trunk and a
+// 48-sided tube), cut below a plane and grown a little, crosses itself along the seam; its outer
+// surface does not, and holds the grown solid. The part less it finishes (with the cut as given,
+// whose faces lie on the part's, CGAL's corefinement ran for minutes or refused), and leaves what
+// stands above the cut. Cut at several heights through the seam and the arms.
+TEST(WithoutCrossings, AGrownUnionFoldedAlongItsSeamGetsItsOuterSurface) {
+  auto read = io::read_part(std::string(POLYAXIS_PARTS_DIR) + "/two_branches.stl");
+  ASSERT_TRUE(read.ok());
+  const Mesh part = solid(read.value().mesh);
+  const double whole = signed_volume(part);
+  for (const double z : {35.0, 40.0, 50.0}) {
+    SCOPED_TRACE(z);
+    auto cut = cut_by_plane(part, {0, 0, z}, {0, 0, 1});
+    ASSERT_TRUE(cut.ok());
+    const Mesh& below = cut.value().below;
+    const Mesh skin = grown(below, 0.02);
+    ASSERT_FALSE(self_intersecting_faces(skin).empty());  // the case at hand
+    auto outer = without_crossings(skin);
+    ASSERT_TRUE(outer.ok()) << outer.error().message;
+    expect_closed(outer.value());
+    EXPECT_TRUE(self_intersecting_faces(outer.value()).empty());
+    const double v = signed_volume(below), area = surface_area(below);
+    EXPECT_GT(signed_volume(outer.value()), v + 0.5 * 0.02 * area);
+    EXPECT_LT(signed_volume(outer.value()), v + 1.01 * 0.02 * area);
+    auto rest = difference(part, outer.value());
+    ASSERT_TRUE(rest.ok()) << rest.error().message;
+    expect_closed(rest.value());
+    EXPECT_LT(signed_volume(rest.value()), whole - v);  // what stands above the cut, less the skin over the cap
+    EXPECT_GT(signed_volume(rest.value()), whole - v - 0.02 * area);
+  }
+  // A surface that crosses nothing is itself.
+  const Mesh cube = solid(test::box({0, 0, 0}, {10, 10, 10}));
+  auto same = without_crossings(cube);
+  ASSERT_TRUE(same.ok());
+  EXPECT_NEAR(signed_volume(same.value()), 1000.0, 1e-9);
 }
 
 }  // namespace
