@@ -15,9 +15,9 @@
 #include <numbers>
 
 #include "polyaxis/mesh/plane_cut.h"
-#include "polyaxis/mesh/self_intersections.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/self_intersections.h"
+#include "polyaxis/mesh/topology.h"
 #include "polyaxis/post/traori.h"
 #include "core/arena.h"
 #include "reach.h"
@@ -280,6 +280,15 @@ struct OnSubstrate {
   mesh::Mesh skin;  // the substrate grown by kSubstrateSkinMm, its outer surface where that folds
 };
 
+// True when SKIN, made from SUBSTRATE grown by kSubstrateSkinMm and rid of its crossings, is what
+// it should be: closed, crossing nothing, and holding the substrate and at most the skin more
+// (CGAL's autorefinement of shells that only touch gave 4 faces).
+bool holds_substrate(const mesh::Mesh& skin, const mesh::Mesh& substrate) {
+  if (!mesh::build_topology(skin).closed() || !mesh::self_intersecting_faces(skin).empty()) return false;
+  const double v = mesh::signed_volume(skin), least = mesh::signed_volume(substrate);
+  return v >= least && v <= least + kSubstrateSkinMm * mesh::surface_area(substrate) * 1.01;
+}
+
 // The part less O.substrate. The substrate grown by a skin: where the part's surface and the
 // substrate's are two tessellations of one surface (a hub exported apart from its impeller), a
 // sliver of the part would be left over the substrate and join every piece into one. A substrate
@@ -293,7 +302,7 @@ core::Result<OnSubstrate> part_less_substrate(const mesh::RepairedMesh& part, co
   out.skin = mesh::grown(*o.substrate, kSubstrateSkinMm);
   if (!mesh::self_intersecting_faces(out.skin).empty()) {
     auto outer = mesh::without_crossings(out.skin);
-    out.skin = outer && mesh::self_intersecting_faces(outer.value()).empty() ? std::move(outer.value()) : *o.substrate;
+    out.skin = outer && holds_substrate(outer.value(), *o.substrate) ? std::move(outer.value()) : *o.substrate;
   }
   auto rest = mesh::difference(part.mesh, out.skin);
   if (!rest) return core::make_error(rest.error().code, "--substrate: the part less the substrate: " + rest.error().message);
