@@ -12,6 +12,7 @@
 #include <CGAL/Polygon_mesh_processing/clip.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/stitch_borders.h>
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include <fmt/format.h>
 
 #include <map>
+#include <optional>
 
 namespace polyaxis::mesh {
 namespace {
@@ -100,6 +102,131 @@ core::Result<SurfaceMesh> united(std::vector<SurfaceMesh> pieces) {
   return sum;
 }
 
+// The caps a cut left on PLANE in SM: faces with every corner on it (exact), grouped by the edges
+// they share, each with its area and centroid (rounded: the same cross-section capped on either
+// side of the cut gives the same figures to rounding).
+struct CapPatch {
+  std::vector<SurfaceMesh::Face_index> faces;
+  double area = 0.0;
+  Vec3 centroid;
+};
+
+std::vector<CapPatch> cap_patches(const SurfaceMesh& sm, const Kernel::Plane_3& plane) {
+  auto on_plane = [&](SurfaceMesh::Face_index f) {
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) {
+      if (!plane.has_on(sm.point(v))) return false;
+    }
+    return true;
+  };
+  std::map<SurfaceMesh::Face_index, bool> cap;
+  for (auto f : sm.faces()) cap[f] = on_plane(f);
+  std::map<SurfaceMesh::Face_index, bool> seen;
+  std::vector<CapPatch> out;
+  for (auto f : sm.faces()) {
+    if (!cap[f] || seen[f]) continue;
+    CapPatch patch;
+    Vec3 moment{0, 0, 0};
+    std::vector<SurfaceMesh::Face_index> stack{f};
+    seen[f] = true;
+    while (!stack.empty()) {
+      const auto g = stack.back();
+      stack.pop_back();
+      patch.faces.push_back(g);
+      std::vector<Vec3> c;
+      for (auto v : CGAL::vertices_around_face(sm.halfedge(g), sm)) {
+        const Point& q = sm.point(v);
+        c.push_back({CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())});
+      }
+      const double a = 0.5 * core::norm(core::cross(c[1] - c[0], c[2] - c[0]));
+      patch.area += a;
+      moment = moment + (c[0] + c[1] + c[2]) * (a / 3.0);
+      for (auto h : CGAL::halfedges_around_face(sm.halfedge(g), sm)) {
+        const auto n = sm.face(sm.opposite(h));
+        if (n != SurfaceMesh::null_face() && cap[n] && !seen[n]) seen[n] = true, stack.push_back(n);
+      }
+    }
+    patch.centroid = patch.area > 0.0 ? moment * (1.0 / patch.area) : moment;
+    out.push_back(std::move(patch));
+  }
+  return out;
+}
+
+// The patch of PATCHES that caps the same cross-section as P, if any.
+std::optional<std::size_t> same_section(const std::vector<CapPatch>& patches, const CapPatch& p) {
+  const double tol = 1e-9 * std::max(1.0, p.area);
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    if (std::abs(patches[i].area - p.area) <= tol && core::norm(patches[i].centroid - p.centroid) <= 1e-9 * std::max(1.0, core::norm(p.centroid))) return i;
+  }
+  return std::nullopt;
+}
+
+// Where a border vertex of SM lies strictly inside a border edge (exactly: the two clips cut the
+// surface along one line, but each has points of its own on it where the clipping box's
+// diagonal crossed), the edge is split there and its face cut in two, so that the two sides'
+// borders meet vertex for vertex. Border edges are few (the cut's polylines): O(n) per edge.
+void split_at_t_junctions(SurfaceMesh& sm) {
+  std::vector<SurfaceMesh::Halfedge_index> work;
+  std::vector<SurfaceMesh::Vertex_index> corners;
+  for (auto h : sm.halfedges()) {
+    if (sm.is_border(h)) work.push_back(h), corners.push_back(sm.target(h));
+  }
+  while (!work.empty()) {
+    const auto h = work.back();
+    work.pop_back();
+    const auto va = sm.source(h), vc = sm.target(h);
+    const Point a = sm.point(va), c = sm.point(vc);  // copies: splitting adds a vertex, which may move the points
+    const CGAL::Bbox_3 box = a.bbox() + c.bbox();
+    for (const auto v : corners) {
+      if (v == va || v == vc) continue;
+      const Point b = sm.point(v);
+      if (!CGAL::do_overlap(box, b.bbox()) || !CGAL::collinear(a, b, c) || !CGAL::collinear_are_strictly_ordered_along_line(a, b, c)) continue;
+      // The triangle on the inner side, (c, a, x), becomes (c, b, a, x): cut through b and x.
+      const auto hb = CGAL::Euler::split_edge(sm.opposite(h), sm);  // c -> b, followed by b -> a
+      sm.point(sm.target(hb)) = b;
+      CGAL::Euler::split_face(hb, sm.next(sm.next(hb)), sm);
+      work.push_back(sm.opposite(hb));                // b -> c, on the border
+      work.push_back(sm.opposite(sm.next(hb)));       // a -> b, on the border
+      break;
+    }
+  }
+}
+
+// NEAR and PIECE, two sides of one cut by PLANE meeting on caps that cover the same
+// cross-sections, as one solid: both caps dropped and the borders stitched (exact points), which
+// corefinement would do at the cost of intersecting the coplanar caps in exact rationals. None
+// when a cap of PIECE has no twin on NEAR or the result is not a closed, valid mesh.
+std::optional<SurfaceMesh> glued(const SurfaceMesh& near, const SurfaceMesh& piece, const Kernel::Plane_3& plane) {
+  const std::vector<CapPatch> near_caps = cap_patches(near, plane), piece_caps = cap_patches(piece, plane);
+  if (piece_caps.empty()) return std::nullopt;
+  std::map<SurfaceMesh::Face_index, bool> drop_near, drop_piece;
+  std::vector<bool> used(near_caps.size(), false);
+  for (const CapPatch& p : piece_caps) {
+    const auto twin = same_section(near_caps, p);
+    if (!twin || used[*twin]) return std::nullopt;
+    used[*twin] = true;
+    for (auto f : near_caps[*twin].faces) drop_near[f] = true;
+    for (auto f : p.faces) drop_piece[f] = true;
+  }
+  SurfaceMesh out;
+  auto append = [&](const SurfaceMesh& sm, std::map<SurfaceMesh::Face_index, bool>& drop) {
+    std::map<SurfaceMesh::Vertex_index, SurfaceMesh::Vertex_index> to;
+    for (auto v : sm.vertices()) to[v] = out.add_vertex(sm.point(v));
+    for (auto f : sm.faces()) {
+      if (drop[f]) continue;
+      std::vector<SurfaceMesh::Vertex_index> c;
+      for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) c.push_back(to[v]);
+      if (out.add_face(c) == SurfaceMesh::null_face()) return false;
+    }
+    return true;
+  };
+  if (!append(near, drop_near) || !append(piece, drop_piece)) return std::nullopt;
+  split_at_t_junctions(out);
+  PMP::stitch_borders(out);
+  out.collect_garbage();
+  if (!CGAL::is_closed(out) || !CGAL::is_valid_polygon_mesh(out)) return std::nullopt;
+  return out;
+}
+
 }  // namespace
 
 core::Result<PlaneCut> cut_by_plane(const Mesh& mesh, Vec3 point, Vec3 normal) {
@@ -141,14 +268,23 @@ core::Result<CutOff> cut_off(const Mesh& mesh, Vec3 point, Vec3 normal, const Pi
                             fmt::format("the plane cuts {} pieces off besides the child (at most {} are put back)", solids.size() - 1,
                                         kMaxRejoinedPieces));
   }
+  // Each piece is glued onto the near side along the caps they share; a piece that cannot be is
+  // united with it by corefinement.
+  const Kernel::Plane_3 plane(Point(point.x, point.y, point.z), Kernel::Vector_3(normal.x, normal.y, normal.z));
   std::vector<SurfaceMesh> rest{std::move(near_side)};
   for (std::size_t i : solids) {
-    if (i != child) rest.push_back(std::move(pieces[i]));
+    if (i == child) continue;
+    if (auto g = glued(rest.front(), pieces[i], plane)) {
+      rest.front() = std::move(*g);
+    } else {
+      rest.push_back(std::move(pieces[i]));
+    }
   }
+  const std::size_t united_pieces = rest.size() - 1;
   auto joined = united(std::move(rest));
   if (!joined) return joined.error();
   Mesh parent = to_mesh(joined.value());
-  CutOff out{std::move(rounded[child]), std::move(parent)};
+  CutOff out{std::move(rounded[child]), std::move(parent), united_pieces};
   for (std::size_t i : cavities) {
     Mesh& host = winding_number(out.child, rounded[i].vertices.front()) > core::kInsideWindingNumber ? out.child : out.parent;
     const auto base = static_cast<std::uint32_t>(host.vertices.size());

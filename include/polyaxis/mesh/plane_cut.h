@@ -25,6 +25,11 @@ core::Result<PlaneCut> cut_by_plane(const Mesh& mesh, core::Vec3 point, core::Ve
 struct CutOff {
   Mesh child;   // one connected piece on the normal side of the plane, closed
   Mesh parent;  // everything else: the other side and the other pieces on the normal side, as one solid
+  // The other pieces are glued back along the caps they share with the other side (both caps
+  // dropped, the borders stitched, exactly); those that cannot be are united by corefinement,
+  // which intersects the coplanar caps in exact rationals (a coil spring's analysis: 8.6 s by
+  // corefinement, 1.6 s glued). How many were united that way.
+  std::size_t united_pieces = 0;
 };
 
 // Chooses the child among the connected pieces on the normal side (in the order given), by index,

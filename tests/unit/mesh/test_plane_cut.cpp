@@ -87,6 +87,7 @@ TEST(PlaneCut, CutOffPutsTheOtherPiecesBackAsOneSolid) {
   expect_closed(cut.value().child);
   expect_closed(cut.value().parent);
   EXPECT_NEAR(signed_volume(cut.value().child) + signed_volume(cut.value().parent), signed_volume(m), 1e-6 * signed_volume(m));
+  EXPECT_EQ(cut.value().united_pieces, 0u);  // glued back along its cap
   auto again = repair(io::RawMesh{cut.value().parent.vertices, cut.value().parent.triangles});
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again.value().shells.size(), 1u);
@@ -97,6 +98,38 @@ TEST(PlaneCut, CutOffPutsTheOtherPiecesBackAsOneSolid) {
   EXPECT_FALSE(cut_off(m, {0, 0, 25}, {0, 0, 1}, [](const std::vector<Mesh>&) { return std::optional<std::size_t>{}; }).ok());
 }
 
+
+// A coil (a square bar on a helix) cut by a plane through its axis: the far side falls into one
+// piece a turn. The child is one; the others are glued back onto the near side along their caps,
+// each cap's edges split where the other side's clip put points of its own on the cut line (the
+// corefinement it replaces took seconds on a wire spring), and the parent is one closed solid
+// holding exactly the rest. Other coil sizes, turns, tessellations and plane tilts.
+TEST(PlaneCut, CutOffGluesTheOtherPiecesOfACoilBackOntoTheParent) {
+  struct Coil {
+    double w, r, turns, h, step;
+    core::Vec3 normal;
+  };
+  for (const Coil& c : {Coil{3, 12, 2.5, 30, 0.5, {1, 0, 0}}, Coil{2, 9, 3.5, 40, 0.8, {1, 0.3, 0.1}}, Coil{4, 15, 2.2, 25, 0.35, {0.8, -0.6, -0.05}}}) {
+    SCOPED_TRACE(c.r);
+    const Mesh coil = solid(test::helical_bar(c.w, c.r, c.turns, c.h, c.step));
+    std::size_t offered = 0;
+    auto cut = cut_off(coil, {0, 0, 0}, c.normal, [&](const std::vector<Mesh>& pieces) -> std::optional<std::size_t> {
+      offered = pieces.size();
+      return 0;
+    });
+    ASSERT_TRUE(cut.ok()) << cut.error().message;
+    EXPECT_GE(offered, 2u);
+    EXPECT_EQ(cut.value().united_pieces, 0u);
+    expect_closed(cut.value().child);
+    expect_closed(cut.value().parent);
+    const double whole = signed_volume(coil);
+    EXPECT_NEAR(signed_volume(cut.value().child) + signed_volume(cut.value().parent), whole, 1e-9 * whole);
+    auto again = repair(io::RawMesh{cut.value().parent.vertices, cut.value().parent.triangles});
+    ASSERT_TRUE(again.ok());
+    EXPECT_EQ(again.value().shells.size(), 1u);
+    EXPECT_TRUE(self_intersecting_faces(cut.value().parent).empty());
+  }
+}
 
 // A cavity wholly on the far side goes with the piece around it (the child here), not the parent.
 TEST(PlaneCut, CutOffKeepsACavityWithThePieceAroundIt) {
