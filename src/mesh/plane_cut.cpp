@@ -30,6 +30,9 @@ using Point = Kernel::Point_3;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
+// Slack for comparing the boxes of exact points by their low x, mm: far more than their width.
+constexpr double kBoxSlackMm = 1e-6;
+
 // A cut whose far side falls into more pieces than the child and this many is refused (cut_off).
 constexpr std::size_t kMaxRejoinedPieces = 3;
 
@@ -163,20 +166,27 @@ std::optional<std::size_t> same_section(const std::vector<CapPatch>& patches, co
 // Where a border vertex of SM lies strictly inside a border edge (exactly: the two clips cut the
 // surface along one line, but each has points of its own on it where the clipping box's
 // diagonal crossed), the edge is split there and its face cut in two, so that the two sides'
-// borders meet vertex for vertex. Border edges are few (the cut's polylines): O(n) per edge.
+// borders meet vertex for vertex. Corners are found by their box along x: O(n log n) for n border
+// edges, and a few per edge.
 void split_at_t_junctions(SurfaceMesh& sm) {
   std::vector<SurfaceMesh::Halfedge_index> work;
-  std::vector<SurfaceMesh::Vertex_index> corners;
+  std::vector<std::pair<double, SurfaceMesh::Vertex_index>> corners;  // by the low x of their box
   for (auto h : sm.halfedges()) {
-    if (sm.is_border(h)) work.push_back(h), corners.push_back(sm.target(h));
+    if (sm.is_border(h)) work.push_back(h), corners.emplace_back(sm.point(sm.target(h)).bbox().xmin(), sm.target(h));
   }
+  std::sort(corners.begin(), corners.end());
   while (!work.empty()) {
     const auto h = work.back();
     work.pop_back();
     const auto va = sm.source(h), vc = sm.target(h);
     const Point a = sm.point(va), c = sm.point(vc);  // copies: splitting adds a vertex, which may move the points
     const CGAL::Bbox_3 box = a.bbox() + c.bbox();
-    for (const auto v : corners) {
+    // A corner's box is a few ulps wide at most: one whose low x lies kBoxSlackMm under the edge's
+    // cannot reach it.
+    const auto first = std::lower_bound(corners.begin(), corners.end(), box.xmin() - kBoxSlackMm,
+                                        [](const auto& corner, double x) { return corner.first < x; });
+    for (auto it = first; it != corners.end() && it->first <= box.xmax(); ++it) {
+      const auto v = it->second;
       if (v == va || v == vc) continue;
       const Point b = sm.point(v);
       if (!CGAL::do_overlap(box, b.bbox()) || !CGAL::collinear(a, b, c) || !CGAL::collinear_are_strictly_ordered_along_line(a, b, c)) continue;
