@@ -121,16 +121,15 @@ std::vector<CapPatch> cap_patches(const SurfaceMesh& sm, const Kernel::Plane_3& 
     }
     return true;
   };
-  std::map<SurfaceMesh::Face_index, bool> cap;
-  for (auto f : sm.faces()) cap[f] = on_plane(f);
-  std::map<SurfaceMesh::Face_index, bool> seen;
+  std::vector<char> cap(sm.num_faces(), 0), seen(sm.num_faces(), 0);  // by face index
+  for (auto f : sm.faces()) cap[f.idx()] = on_plane(f) ? 1 : 0;
   std::vector<CapPatch> out;
   for (auto f : sm.faces()) {
-    if (!cap[f] || seen[f]) continue;
+    if (!cap[f.idx()] || seen[f.idx()]) continue;
     CapPatch patch;
     Vec3 moment{0, 0, 0};
     std::vector<SurfaceMesh::Face_index> stack{f};
-    seen[f] = true;
+    seen[f.idx()] = 1;
     while (!stack.empty()) {
       const auto g = stack.back();
       stack.pop_back();
@@ -145,7 +144,7 @@ std::vector<CapPatch> cap_patches(const SurfaceMesh& sm, const Kernel::Plane_3& 
       moment = moment + (c[0] + c[1] + c[2]) * (a / 3.0);
       for (auto h : CGAL::halfedges_around_face(sm.halfedge(g), sm)) {
         const auto n = sm.face(sm.opposite(h));
-        if (n != SurfaceMesh::null_face() && cap[n] && !seen[n]) seen[n] = true, stack.push_back(n);
+        if (n != SurfaceMesh::null_face() && cap[n.idx()] && !seen[n.idx()]) seen[n.idx()] = 1, stack.push_back(n);
       }
     }
     patch.centroid = patch.area > 0.0 ? moment * (1.0 / patch.area) : moment;
@@ -208,23 +207,23 @@ void split_at_t_junctions(SurfaceMesh& sm) {
 std::optional<SurfaceMesh> glued(const SurfaceMesh& near, const SurfaceMesh& piece, const Kernel::Plane_3& plane) {
   const std::vector<CapPatch> near_caps = cap_patches(near, plane), piece_caps = cap_patches(piece, plane);
   if (piece_caps.empty()) return std::nullopt;
-  std::map<SurfaceMesh::Face_index, bool> drop_near, drop_piece;
+  std::vector<char> drop_near(near.num_faces(), 0), drop_piece(piece.num_faces(), 0);  // by face index
   std::vector<bool> used(near_caps.size(), false);
   for (const CapPatch& p : piece_caps) {
     const auto twin = same_section(near_caps, p);
     if (!twin || used[*twin]) return std::nullopt;
     used[*twin] = true;
-    for (auto f : near_caps[*twin].faces) drop_near[f] = true;
-    for (auto f : p.faces) drop_piece[f] = true;
+    for (auto f : near_caps[*twin].faces) drop_near[f.idx()] = 1;
+    for (auto f : p.faces) drop_piece[f.idx()] = 1;
   }
   SurfaceMesh out;
-  auto append = [&](const SurfaceMesh& sm, std::map<SurfaceMesh::Face_index, bool>& drop) {
-    std::map<SurfaceMesh::Vertex_index, SurfaceMesh::Vertex_index> to;
-    for (auto v : sm.vertices()) to[v] = out.add_vertex(sm.point(v));
+  auto append = [&](const SurfaceMesh& sm, const std::vector<char>& drop) {
+    std::vector<SurfaceMesh::Vertex_index> to(sm.num_vertices());  // by vertex index
+    for (auto v : sm.vertices()) to[v.idx()] = out.add_vertex(sm.point(v));
     for (auto f : sm.faces()) {
-      if (drop[f]) continue;
+      if (drop[f.idx()]) continue;
       std::vector<SurfaceMesh::Vertex_index> c;
-      for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) c.push_back(to[v]);
+      for (auto v : CGAL::vertices_around_face(sm.halfedge(f), sm)) c.push_back(to[v.idx()]);
       if (out.add_face(c) == SurfaceMesh::null_face()) return false;
     }
     return true;
