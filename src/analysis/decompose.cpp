@@ -209,6 +209,7 @@ struct ExactSplit {
   Vec3 direction;
   double unsupported_mm2 = INFINITY;  // parent + child
   double child_mm2 = INFINITY;
+  std::size_t child_mid_air = 0;  // corners where the child's first layer starts on nothing (mid_air_starts)
 };
 
 struct ExactRules {
@@ -263,6 +264,7 @@ std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 norma
   if (const double on_cut = detail::underside_in_cut_mm2(host.mesh, point, normal); on_cut >= kUnsupportedNoiseMm2) out.child_mm2 += on_cut;
   if (rules.child_must_stand && out.child_mm2 > 0.0) return std::nullopt;
   out.unsupported_mm2 = detail::unsupported(out.parent, host.build_direction, alpha_deg, host.base_point, host.base_normal) + out.child_mm2;
+  out.child_mid_air = detail::mid_air_starts(out.child, out.direction, point, normal, rules.min_thickness_mm).size();
   return out;
 }
 
@@ -565,9 +567,13 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
           if (!spend(kExactCutVisitsPerFacet * static_cast<double>(h.mesh.triangles.size()))) break;
           const Vec3 starts[] = {c.normal, c.screened.child_direction};
           auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, ExactRules{true, hr.keep_base, reach, options.min_region_mm});
-          if (e && e->child_mm2 == 0.0 && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
+          // A child that starts nowhere in mid-air first, then the least overhang left.
+          auto better = [&](const ExactSplit& x, const ExactSplit& y) {
+            return (x.child_mid_air == 0) != (y.child_mid_air == 0) ? x.child_mid_air == 0 : x.unsupported_mm2 < y.unsupported_mm2;
+          };
+          if (e && e->child_mm2 == 0.0 && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || better(*e, *chosen))) {
             chosen = std::move(e), used = &c;
-            if (chosen->unsupported_mm2 <= c.screened.total() + kUnsupportedNoiseMm2) break;
+            if (chosen->child_mid_air == 0 && chosen->unsupported_mm2 <= c.screened.total() + kUnsupportedNoiseMm2) break;
           }
         }
         if (!chosen) continue;
@@ -582,7 +588,8 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     Region& g = tree.regions[r];
     g.volume_mm3 = mesh::signed_volume(g.mesh);
     g.unsupported_area_mm2 = overhang[r];
-    g.support_free = g.unsupported_area_mm2 == 0.0;
+    g.mid_air_starts = detail::mid_air_starts(g.mesh, g.build_direction, g.base_point, g.base_normal, options.min_region_mm);
+    g.support_free = g.unsupported_area_mm2 == 0.0 && g.mid_air_starts.empty();
   }
   detail::order_by_support(tree.regions);
   return tree;

@@ -20,6 +20,18 @@ constexpr double kConcaveRiseMm = 1e-9;
 constexpr double kCreaseDeg = 20.0;
 // Faces this far on the parent's side of a cut are in it (underside_in_cut_mm2), mm.
 constexpr double kUndersideBandMm = 2.0 * kFaceCutOffsetMm;
+// Corners within this of one another along a direction are level, mm: rounding of a cut's points on
+// a plane across the direction. Level corners are ordered along kTieBreak, a direction no part's
+// edges follow by design.
+constexpr double kMinimumRiseMm = 1e-6;
+constexpr Vec3 kTieBreak{0.5773502691896258, 0.5773397, 0.5773608};
+// A lowest corner starts in mid-air when no point of the solid lies the probe distance below it,
+// straight down or that far across in kMidAirProbes directions; at least this far, mm (far above
+// a cut's film, kFaceCutOffsetMm, and rounding).
+constexpr double kMinMidAirProbeMm = 0.05;
+constexpr int kMidAirProbes = 8;
+// Lowest corners probed at most, lowest first (each probe is O(F)).
+constexpr std::size_t kMaxProbedStarts = 64;
 
 }  // namespace
 
@@ -164,6 +176,55 @@ double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal) {
     if (in_cut) area += len / 2.0;
   }
   return area;
+}
+
+std::vector<Vec3> mid_air_starts(const mesh::Mesh& m, Vec3 d, Vec3 base_point, Vec3 base_normal, double probe_mm) {
+  const double probe = std::max(probe_mm, kMinMidAirProbeMm);
+  const Vec3 dn = core::normalized(d), bn = core::normalized(base_normal);
+  const std::size_t nv = m.vertices.size();
+  std::vector<double> h(nv), across(nv);
+  for (std::size_t v = 0; v < nv; ++v) h[v] = core::dot(m.vertices[v], dn), across[v] = core::dot(m.vertices[v], kTieBreak);
+  // U is below V: lower along D, or level with it and lower along kTieBreak (a level keel or
+  // plateau then has one lowest corner, as a surface tilted ever so slightly would).
+  auto below = [&](std::uint32_t u, std::uint32_t v) {
+    return h[u] < h[v] - kMinimumRiseMm || (h[u] <= h[v] + kMinimumRiseMm && across[u] < across[v]);
+  };
+  std::vector<char> lowest(nv, 1);
+  std::vector<Vec3> normal(nv);
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+    const Vec3 a2 = mesh::face_area_vector(m, f);
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = m.triangles[f][k];
+      if (below(m.triangles[f][(k + 1) % 3], v) || below(m.triangles[f][(k + 2) % 3], v)) lowest[v] = 0;
+      normal[v] = normal[v] + a2;
+    }
+  }
+  std::vector<std::uint32_t> candidates;
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (!lowest[v] || !(core::dot(normal[v], dn) < 0.0)) continue;  // not a minimum, or the solid lies below it (a pocket's floor)
+    if (std::fabs(core::dot(m.vertices[v] - base_point, bn)) <= kOnBaseMm) continue;
+    candidates.push_back(v);
+  }
+  std::stable_sort(candidates.begin(), candidates.end(), [&](std::uint32_t a, std::uint32_t b) { return h[a] < h[b]; });
+  if (candidates.size() > kMaxProbedStarts) candidates.resize(kMaxProbedStarts);
+  // A corner lowest on the surface only: the solid reaches below it close by (the film a cut along
+  // a face leaves on the parent, 1 µm proud of it, and the wedge a flat cut leaves along a curved
+  // wall, have such corners along their lower edges).
+  const Vec3 u = core::normalized(core::cross(dn, std::fabs(dn.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0})), w = core::cross(dn, u);
+  auto solid_below = [&](Vec3 p) {
+    const Vec3 under = p - dn * probe;
+    if (winding(m, under) > core::kInsideWindingNumber) return true;
+    for (int k = 0; k < kMidAirProbes; ++k) {
+      const double a = 2.0 * kPi * k / kMidAirProbes;
+      if (winding(m, under + (u * std::cos(a) + w * std::sin(a)) * probe) > core::kInsideWindingNumber) return true;
+    }
+    return false;
+  };
+  std::vector<Vec3> out;
+  for (const std::uint32_t v : candidates) {
+    if (!solid_below(m.vertices[v])) out.push_back(m.vertices[v]);
+  }
+  return out;
 }
 
 std::vector<mesh::Mesh> shells_of(const mesh::Mesh& piece) {

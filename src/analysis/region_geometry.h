@@ -73,6 +73,17 @@ double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_poin
 // Such a face is an overhang of the child whatever its direction. O(F).
 double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal);
 
+// The corners of M where a region built along D starts in mid-air: local minima of the height
+// along D (no corner sharing a facet with it lower; level corners ordered by a fixed tie-break, so
+// a level keel counts once) off the base plane (BASE_POINT, BASE_NORMAL), with the solid above them
+// (the facets around face down along D; a pocket's floor is a minimum with the solid below). The
+// first layer there is an island resting on nothing, whatever the facets' angles: a keel or a spike
+// pointing down passes the facet test of `unsupported` with every facet steep. A corner with some
+// of the solid within PROBE_MM below it (straight down, or as far across; 0.05 mm at least) is
+// not one: the island there would be no thicker than a piece the decomposition counts as a film.
+// The 64 lowest candidates are probed at most. O(F) plus O(F) per probe.
+std::vector<Vec3> mid_air_starts(const mesh::Mesh& m, Vec3 d, Vec3 base_point, Vec3 base_normal, double probe_mm);
+
 // The shells of a closed mesh, as separate closed meshes (mesh::repair groups faces by shell).
 std::vector<mesh::Mesh> shells_of(const mesh::Mesh& piece);
 

@@ -7,6 +7,7 @@
 
 #include "polyaxis/core/tolerances.h"
 #include "polyaxis/mesh/properties.h"
+#include "polyaxis/mesh/self_intersections.h"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/clip.h>
@@ -32,6 +33,10 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 
 // Slack for comparing the boxes of exact points by their low x, mm: far more than their width.
 constexpr double kBoxSlackMm = 1e-6;
+
+// A face that crosses another is met by a plane passing within this of it, mm (far more than
+// rounding; a cut that close would leave a sliver anyway).
+constexpr double kCrossingClearMm = 1e-6;
 
 // A cut whose far side falls into more pieces than the child and this many is refused (cut_off).
 constexpr std::size_t kMaxRejoinedPieces = 3;
@@ -68,6 +73,27 @@ Mesh to_mesh(const SurfaceMesh& sm) {
   return out;
 }
 
+
+// Whether the plane (POINT, NORMAL) meets a face of MESH that crosses another face: CGAL's clip
+// is undefined there (two_branches, whose union leaves 16 such faces along the seam of its trunk
+// and arm, crashed in it). Faces that cross far from the plane are cut around.
+bool meets_crossing_faces(const Mesh& mesh, Vec3 point, Vec3 normal) {
+  const Vec3 n = core::normalized(normal);
+  for (const std::uint32_t f : self_intersecting_faces(mesh)) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (int k = 0; k < 3; ++k) {
+      const double d = core::dot(mesh.corner(f, k) - point, n);
+      lo = std::min(lo, d), hi = std::max(hi, d);
+    }
+    if (lo <= kCrossingClearMm && hi >= -kCrossingClearMm) return true;
+  }
+  return false;
+}
+
+core::Status cuttable(const Mesh& mesh, Vec3 point, Vec3 normal) {
+  if (!meets_crossing_faces(mesh, point, normal)) return {};
+  return core::make_error(core::ErrorCode::kInfeasible, "the plane meets faces of the part that cross one another: no cut there");
+}
 
 // SM clipped to the negative side of the plane (POINT, NORMAL), capped.
 core::Status keep_negative(SurfaceMesh& sm, Vec3 point, Vec3 normal) {
@@ -239,6 +265,7 @@ std::optional<SurfaceMesh> glued(const SurfaceMesh& near, const SurfaceMesh& pie
 }  // namespace
 
 core::Result<PlaneCut> cut_by_plane(const Mesh& mesh, Vec3 point, Vec3 normal) {
+  if (auto st = cuttable(mesh, point, normal); !st) return st.error();
   SurfaceMesh below = to_surface_mesh(mesh), above = below;
   if (auto st = keep_negative(below, point, normal); !st) return st.error();
   if (auto st = keep_negative(above, point, normal * -1.0); !st) return st.error();
@@ -246,6 +273,7 @@ core::Result<PlaneCut> cut_by_plane(const Mesh& mesh, Vec3 point, Vec3 normal) {
 }
 
 core::Result<CutOff> cut_off(const Mesh& mesh, Vec3 point, Vec3 normal, const PiecePicker& pick) {
+  if (auto st = cuttable(mesh, point, normal); !st) return st.error();
   SurfaceMesh far_side = to_surface_mesh(mesh), near_side = far_side;
   if (auto st = keep_negative(far_side, point, normal * -1.0); !st) return st.error();
   if (auto st = keep_negative(near_side, point, normal); !st) return st.error();

@@ -133,8 +133,9 @@ std::vector<std::uint32_t> open_vertices(const Mesh& mesh, const EdgeTopology& t
 namespace {
 
 constexpr double kMinTwiceArea = 2.0 * core::kDegenerateAreaMm2;
-// Caps flipped at most, each after a fresh topology (a mesh with more is left to removal).
-constexpr std::uint64_t kMaxCapFlips = 256;
+// Passes of cap flips at most (each flips caps apart from one another, then looks again: a cap
+// whose neighbour was a cap too, a fan of collinear points, flips once that neighbour has).
+constexpr int kMaxCapPasses = 64;
 
 bool degenerate(const Mesh& mesh, const Triangle& t) {
   if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
@@ -142,11 +143,12 @@ bool degenerate(const Mesh& mesh, const Triangle& t) {
   return dot(n, n) < kMinTwiceArea * kMinTwiceArea;
 }
 
-// The half-edge of cap F along its longest edge, when its third vertex lies strictly inside that
-// edge (not at an end: that is a needle, a face with a vanishing edge).
-std::optional<std::uint32_t> cap_edge(const Mesh& mesh, std::uint32_t f) {
+// The half-edge of cap F along its longest edge: its third vertex lies strictly inside that edge
+// (not at an end: that is a needle, a face with a vanishing edge) and within ON_EDGE_MM of it, or
+// the face is degenerate.
+std::optional<std::uint32_t> cap_edge(const Mesh& mesh, std::uint32_t f, double on_edge_mm) {
   const Triangle& t = mesh.triangles[f];
-  if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !degenerate(mesh, t)) return std::nullopt;
+  if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return std::nullopt;
   std::uint32_t k = 0;
   double longest = -1.0;
   for (std::uint32_t e = 0; e < 3; ++e) {
@@ -157,22 +159,47 @@ std::optional<std::uint32_t> cap_edge(const Mesh& mesh, std::uint32_t f) {
   const double along = dot(m - a, c - a) / longest;
   constexpr double kInside = 1e-6;  // of the edge's length, from either end
   if (!(along > kInside && along < 1.0 - kInside)) return std::nullopt;
+  const Vec3 n = cross(c - a, m - a);  // |n| = the edge's length times M's height over it
+  if (!degenerate(mesh, t) && dot(n, n) > on_edge_mm * on_edge_mm * longest) return std::nullopt;
   return 3 * f + k;
+}
+
+// Whether T has a corner within ON_EDGE_MM of the line of its longest edge.
+bool thin(const Mesh& mesh, const Triangle& t, double on_edge_mm) {
+  double longest = 0.0;
+  for (int e = 0; e < 3; ++e) {
+    const Vec3 d = mesh.vertices[t[(e + 1) % 3]] - mesh.vertices[t[e]];
+    longest = std::max(longest, dot(d, d));
+  }
+  const Vec3 n = cross(mesh.vertices[t[1]] - mesh.vertices[t[0]], mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+  return dot(n, n) <= on_edge_mm * on_edge_mm * longest;
+}
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
 }
 
 }  // namespace
 
-std::uint64_t flip_caps(Mesh& mesh) {
-  // After each flip the caps are looked at again: a cap whose neighbour was a cap too (a fan of
-  // collinear points) can flip once that neighbour has.
+std::uint64_t flip_caps(Mesh& mesh, double on_edge_mm) {
   std::uint64_t flipped = 0;
-  bool again = true;
-  while (again && flipped < kMaxCapFlips) {
-    again = false;
+  for (int pass = 0; pass < kMaxCapPasses; ++pass) {
     const EdgeTopology topo = build_topology(mesh);
-    for (std::uint32_t f = 0; f < mesh.triangles.size() && !again; ++f) {
-      const auto h = cap_edge(mesh, f);
-      if (!h) continue;
+    std::vector<std::uint32_t> caps;
+    for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+      if (cap_edge(mesh, f, on_edge_mm)) caps.push_back(f);
+    }
+    if (caps.empty()) break;
+    std::vector<std::uint64_t> edges;  // every edge as it stands at the start of the pass
+    edges.reserve(topo.opposite.size());
+    for (std::uint32_t e = 0; e < topo.opposite.size(); ++e) edges.push_back(edge_key(half_edge_from(mesh, e), half_edge_to(mesh, e)));
+    std::sort(edges.begin(), edges.end());
+    std::vector<char> touched(mesh.triangles.size(), 0);  // faces changed in this pass
+    std::vector<std::uint64_t> made;                       // edges made in this pass
+    std::uint64_t this_pass = 0;
+    for (const std::uint32_t f : caps) {
+      const auto h = cap_edge(mesh, f, on_edge_mm);
+      if (!h || touched[f]) continue;
       // The cap is part of a closed surface: each of its edges has one other face, which agrees.
       bool closed = true;
       for (std::uint32_t e = 3 * f; e < 3 * f + 3 && closed; ++e) {
@@ -182,19 +209,23 @@ std::uint64_t flip_caps(Mesh& mesh) {
       if (!closed) continue;
       const std::uint32_t o = topo.opposite[*h];
       const std::uint32_t g = o / 3;
+      if (touched[g]) continue;
       const std::uint32_t a = half_edge_from(mesh, *h), c = half_edge_to(mesh, *h);
       const std::uint32_t m = mesh.triangles[f][(*h % 3 + 2) % 3], d = mesh.triangles[g][(o % 3 + 2) % 3];
       const Triangle first{a, d, m}, second{d, c, m};
       if (m == d || degenerate(mesh, first) || degenerate(mesh, second)) continue;
-      bool exists = false;  // the new edge M-D must not be one already (it would have three faces)
-      for (std::uint32_t e = 0; e < topo.opposite.size() && !exists; ++e) {
-        const std::uint32_t x = half_edge_from(mesh, e), y = half_edge_to(mesh, e);
-        exists = (x == m && y == d) || (x == d && y == m);
-      }
-      if (exists) continue;
+      // Nor caps themselves: within a fan of points all near one line, flips would go round for ever.
+      if (thin(mesh, first, on_edge_mm) || thin(mesh, second, on_edge_mm)) continue;
+      // The new edge M-D must not be one already (it would have three faces).
+      const std::uint64_t key = edge_key(m, d);
+      if (std::binary_search(edges.begin(), edges.end(), key) || std::find(made.begin(), made.end(), key) != made.end()) continue;
       mesh.triangles[f] = first, mesh.triangles[g] = second;
-      ++flipped, again = true;
+      touched[f] = touched[g] = 1;
+      made.push_back(key);
+      ++this_pass;
     }
+    flipped += this_pass;
+    if (this_pass == 0) break;
   }
   return flipped;
 }
@@ -348,7 +379,7 @@ core::Result<RepairedMesh> repair(io::RawMesh raw, const RepairOptions& options)
   // metres or microns is not collapsed into a point before the unit warning can be given.
   const double diagonal = norm(bounding_box(mesh).size());
   const double merge_mm = std::min(options.merge_mm, kMaxMergeShareOfDiagonal * diagonal);
-  report.flipped_caps = detail::flip_caps(mesh);
+  report.flipped_caps = detail::flip_caps(mesh, merge_mm);
   report.degenerate_faces = detail::remove_degenerate_faces(mesh);
   if (mesh.triangles.empty()) return core::make_error(ErrorCode::kInvalidInput, "no geometry: every face is degenerate");
   EdgeTopology topo = build_topology(mesh);

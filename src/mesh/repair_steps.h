@@ -21,15 +21,17 @@ std::uint64_t merge_vertices(Mesh& mesh, double tol_mm, std::span<const std::uin
 // Vertices on an edge without exactly two faces, ascending.
 std::vector<std::uint32_t> open_vertices(const Mesh& mesh, const EdgeTopology& topo);
 
-// Turns each cap (a face of three distinct vertices whose area is below kDegenerateAreaMm2, one
-// vertex lying inside its longest edge: what a mesher leaves where it splits an edge for a
-// T-junction) into two proper faces by flipping that edge with the face across it: faces A C M
-// and C A D become A D M and D C M. Removing a cap instead leaves a hole of three collinear points
-// whose only fill is the cap again, which then crosses its neighbours. A cap that is not part of a
+// Turns each cap (a face of three distinct vertices, one lying inside its longest edge: within
+// ON_EDGE_MM of it, or the face's area below kDegenerateAreaMm2; what a mesher leaves where it
+// splits an edge for a T-junction) into two proper faces by flipping that edge with the face across
+// it: faces A C M and C A D become A D M and D C M. Removing a cap instead leaves a hole of three
+// collinear points whose only fill is the cap again, which then crosses its neighbours; a cap left
+// in place crosses them too when its vertex was rounded off the edge (two_branches: OpenSCAD's
+// union leaves caps 4 nm high along its seam, and 16 faces crossed). A cap that is not part of a
 // closed surface (an edge without exactly one agreeing neighbour), or whose flip would make an edge
-// that exists already or another degenerate face, is left for remove_degenerate_faces. Returns
-// caps flipped.
-std::uint64_t flip_caps(Mesh& mesh);
+// that exists already or another degenerate face, is left for remove_degenerate_faces. Passes flip
+// caps that share no face, each after one topology build. Returns caps flipped.
+std::uint64_t flip_caps(Mesh& mesh, double on_edge_mm);
 
 // Drops faces with a repeated vertex or an area below kDegenerateAreaMm2. Returns faces dropped.
 std::uint64_t remove_degenerate_faces(Mesh& mesh);

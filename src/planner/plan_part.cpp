@@ -449,8 +449,12 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
     pr.overhang_mm2 = r.unsupported_area_mm2;
     regions.push_back(std::move(pr));
     if (!r.support_free) {
-      c.warnings.push_back(fmt::format("region {} is not support-free along its direction ({:.1f} mm2 overhang)", r.id,
-                                       r.unsupported_area_mm2));
+      const std::string starts =
+          r.mid_air_starts.empty() ? std::string{}
+                                   : fmt::format(", its first layer starts on nothing at {} corner(s), the first at ({:.2f}, {:.2f}, {:.2f})",
+                                                 r.mid_air_starts.size(), r.mid_air_starts[0].x, r.mid_air_starts[0].y, r.mid_air_starts[0].z);
+      c.warnings.push_back(fmt::format("region {} is not support-free along its direction ({:.1f} mm2 overhang{})", r.id,
+                                       r.unsupported_area_mm2, starts));
     }
   }
   if (auto st = mark_prebuilt(regions, o); !st) return st.error();

@@ -9,6 +9,12 @@ using nlohmann::ordered_json;
 
 ordered_json vec(core::Vec3 v) { return ordered_json::array({v.x, v.y, v.z}); }
 
+ordered_json points(const std::vector<core::Vec3>& ps) {
+  ordered_json out = ordered_json::array();
+  for (const core::Vec3& p : ps) out.push_back(vec(p));
+  return out;
+}
+
 }  // namespace
 
 std::string analysis_json(const std::string& part, const analysis::OverhangMap& overhang, const analysis::CentroidalAxis& axis,
@@ -56,6 +62,7 @@ std::string analysis_json(const std::string& part, const analysis::OverhangMap& 
                        {"volume_mm3", r.volume_mm3},
                        {"support_free", r.support_free},
                        {"unsupported_area_mm2", r.unsupported_area_mm2},
+                       {"mid_air_starts", points(r.mid_air_starts)},
                        {"rule", r.rule},
                        {"rests_on", r.rests_on},
                        {"stl", "region_" + std::to_string(r.id) + ".stl"}});

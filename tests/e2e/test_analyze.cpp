@@ -45,7 +45,10 @@ TEST(AnalyzeCli, TwoBranchesWritesTheSchemaAndOneStlPerRegion) {
     const auto& g = regions[i];
     EXPECT_EQ(g["id"].get<std::size_t>(), i);
     EXPECT_EQ(g["parent"].is_null(), i == 0);
-    EXPECT_TRUE(g["support_free"].get<bool>()) << i;
+    // Support-free but for corners where a region starts on nothing, which the file lists.
+    EXPECT_EQ(g["unsupported_area_mm2"].get<double>(), 0.0) << i;
+    EXPECT_EQ(g["support_free"].get<bool>(), g["mid_air_starts"].empty()) << i;
+    for (const auto& p : g["mid_air_starts"]) EXPECT_EQ(p.size(), 3u) << i;
     // Build order: what a region rests on comes before it, its parent among them.
     for (const auto& below : g["rests_on"]) EXPECT_LT(below.get<std::size_t>(), i);
     if (i > 0) {

@@ -159,7 +159,11 @@ inline void expect_bases_rest_on_earlier_regions(const RegionTree& tree) {
 // plane (the cut's slivers where a plane grazes a tessellated curve).
 inline void expect_support_free(const RegionTree& tree) {
   for (const Region& r : tree.regions) {
-    EXPECT_TRUE(r.support_free) << "region " << r.id << ": " << r.unsupported_area_mm2 << " mm2";
+    EXPECT_TRUE(r.support_free) << "region " << r.id << ": " << r.unsupported_area_mm2 << " mm2, " << r.mid_air_starts.size()
+                                << " corners starting in mid-air"
+                                << (r.mid_air_starts.empty() ? std::string{}
+                                                             : " (" + std::to_string(r.mid_air_starts[0].x) + ", " + std::to_string(r.mid_air_starts[0].y) +
+                                                                   ", " + std::to_string(r.mid_air_starts[0].z) + ")");
     const Vec3 d = core::normalized(r.build_direction), bn = core::normalized(r.base_normal);
     double overhang = 0.0;
     for (std::size_t f = 0; f < r.mesh.triangles.size(); ++f) {

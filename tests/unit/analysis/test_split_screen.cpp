@@ -2,6 +2,9 @@
 // a region can be laid is not a split, before any exact cut is paid for.
 #include <gtest/gtest.h>
 
+#include <tuple>
+
+#include "analysis/region_geometry.h"
 #include "analysis/split_screen.h"
 #include "polyaxis/mesh/topology.h"
 #include "support/meshes.h"
@@ -31,6 +34,59 @@ TEST(ScreenSplit, ASliverThinnerThanTheLeastRegionIsNoSplitAndAThickSlabIs) {
     EXPECT_TRUE(screen(part, 3.0 * min_t, min_t).valid) << "a parent 3 times the least thickness";
   }
   EXPECT_TRUE(screen(part, 9.9, 0.0).valid) << "without a least thickness any slab is a split";
+}
+
+}  // namespace
+}  // namespace polyaxis::analysis::detail
+
+namespace polyaxis::analysis::detail {
+namespace {
+
+// Some of the solid this close below a lowest corner holds it: the least thickness of a region.
+constexpr double kProbeMm = 0.3;
+
+// A prism 20 long lying along y with a keel pointing down: its two lower faces are steep (17° from
+// vertical), so no facet overhangs at 30°, yet its first layer along +Z starts on nothing.
+io::RawMesh keel_prism(double half_width, double depth, double length) {
+  io::RawMesh m;
+  for (const double y : {0.0, length}) {
+    m.points.push_back({-half_width, y, depth});
+    m.points.push_back({half_width, y, depth});
+    m.points.push_back({0, y, 0});
+  }
+  m.triangles = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {2, 0, 3}, {2, 3, 5}};
+  return m;
+}
+
+TEST(MidAirStarts, AKeelStartsOnNothingAtOneCornerWhereverItLeans) {
+  for (const auto& [half_width, depth, length] : {std::tuple{3.0, 10.0, 20.0}, std::tuple{1.0, 6.0, 7.5}}) {
+    const auto prism = polyaxis::test::repaired(keel_prism(half_width, depth, length));
+    const Vec3 wall{-50, 0, 0}, wall_normal{1, 0, 0};  // a base plane no corner lies on
+    ASSERT_EQ(unsupported(prism.mesh, {0, 0, 1}, 30.0, wall, wall_normal), 0.0);
+    // Level: the keel is one line of lowest corners, counted once.
+    EXPECT_EQ(mid_air_starts(prism.mesh, {0, 0, 1}, wall, wall_normal, kProbeMm).size(), 1u);
+    // Leaning along the keel: its lower end.
+    for (const double lean : {0.2, -0.3}) {
+      const auto starts = mid_air_starts(prism.mesh, core::normalized(Vec3{0, lean, 1}), wall, wall_normal, kProbeMm);
+      ASSERT_EQ(starts.size(), 1u) << lean;
+      EXPECT_NEAR(starts[0].y, lean > 0 ? 0.0 : length, 1e-12) << lean;
+      EXPECT_NEAR(starts[0].z, 0.0, 1e-12) << lean;
+    }
+    // Grown from a base through the keel: nothing starts in mid-air.
+    EXPECT_TRUE(mid_air_starts(prism.mesh, {0, 0, 1}, {0, 0, 0}, {0, 0, 1}, kProbeMm).empty());
+  }
+}
+
+TEST(MidAirStarts, ABlockOnItsBaseAndAPocketsFloorStartNowhere) {
+  const auto block = polyaxis::test::repaired(polyaxis::test::box({0, 0, 0}, {20, 10, 10}));
+  EXPECT_TRUE(mid_air_starts(block.mesh, {0, 0, 1}, {0, 0, 0}, {0, 0, 1}, kProbeMm).empty());
+  EXPECT_TRUE(mid_air_starts(block.mesh, core::normalized(Vec3{0.3, -0.2, 1}), {0, 0, 0}, {0, 0, 1}, kProbeMm).empty());
+  // Along -Z from the top face, the block's underside is one flat face down: one start.
+  EXPECT_EQ(mid_air_starts(block.mesh, {0, 0, 1}, {0, 0, 10}, {0, 0, -1}, kProbeMm).size(), 1u);
+  // A torus on its side built up from a plane through its lowest ring: the hole's floor and the
+  // inner ring are no starts (the solid is below or beside them).
+  const auto ring = polyaxis::test::repaired(polyaxis::test::torus(20, 5, 48, 24));
+  EXPECT_TRUE(mid_air_starts(ring.mesh, {0, 0, 1}, {0, 0, -5}, {0, 0, 1}, kProbeMm).empty());
 }
 
 }  // namespace
