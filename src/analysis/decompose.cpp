@@ -264,7 +264,9 @@ std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 norma
   if (const double on_cut = detail::underside_in_cut_mm2(host.mesh, point, normal); on_cut >= kUnsupportedNoiseMm2) out.child_mm2 += on_cut;
   if (rules.child_must_stand && out.child_mm2 > 0.0) return std::nullopt;
   out.unsupported_mm2 = detail::unsupported(out.parent, host.build_direction, alpha_deg, host.base_point, host.base_normal) + out.child_mm2;
-  out.child_mid_air = detail::mid_air_starts(out.child, out.direction, point, normal, rules.min_thickness_mm).size();
+  // Only a child that stands is looked at for starts in mid-air (one that overhangs is no patch
+  // child, and the probes cost O(F) each).
+  if (out.child_mm2 == 0.0) out.child_mid_air = detail::mid_air_starts(out.child, out.direction, point, normal, rules.min_thickness_mm).size();
   return out;
 }
 
@@ -588,7 +590,9 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     Region& g = tree.regions[r];
     g.volume_mm3 = mesh::signed_volume(g.mesh);
     g.unsupported_area_mm2 = overhang[r];
-    g.mid_air_starts = detail::mid_air_starts(g.mesh, g.build_direction, g.base_point, g.base_normal, options.min_region_mm);
+    // Looked for only where no facet overhangs: a region with overhang is not support-free anyway,
+    // and an underside's bumps would each be probed.
+    if (g.unsupported_area_mm2 == 0.0) g.mid_air_starts = detail::mid_air_starts(g.mesh, g.build_direction, g.base_point, g.base_normal, options.min_region_mm);
     g.support_free = g.unsupported_area_mm2 == 0.0 && g.mid_air_starts.empty();
   }
   detail::order_by_support(tree.regions);

@@ -435,8 +435,14 @@ bool has_gap_fill(const LayerToolpaths& layer) {
   return std::any_of(layer.paths.begin(), layer.paths.end(), [](const Path& p) { return p.gap_fill; });
 }
 
-// The centre lines of BELOW's beads seen along FRAME's normal, in FRAME's (u, v), grown by
-// REACH_MM: of the runs of deposit that come within two beads of the box of ABOVE's gap-fill paths.
+// What holds a gap-fill line of ABOVE: the centre lines of BELOW's beads seen along FRAME's normal,
+// in FRAME's (u, v), grown by REACH_MM, and the gaps between the beads (BEAD wide) narrower than a
+// gap fill's least width: those are the beads' spread, left unlaid below (lay_middles), and a bead
+// over one rests on the beads to either side of it.
+// Without them, a gap that widened from layer to layer was never filled, each layer's fill dropped
+// for want of the one below, and a perimeter laid over the void at last had nothing under it (a
+// bent tube's wall 2 to 3 beads thick). Of the runs of deposit that come within two beads of the
+// box of ABOVE's gap-fill paths.
 std::vector<Polygon> beads_under(const LayerToolpaths& below, const slicing::Frame& frame, const LayerToolpaths& above, double bead,
                                  double reach_mm) {
   auto local = [&](Vec3 p) {
@@ -472,7 +478,13 @@ std::vector<Polygon> beads_under(const LayerToolpaths& below, const slicing::Fra
     }
     flush();
   }
-  return geom2d::sweep_open(runs, reach_mm);
+  const double closing = kGapFillMinWidthBeads * bead / 2.0 + kThinSlackMm;
+  const std::vector<Ring> beads = geom2d::rings_of(geom2d::sweep_open(runs, bead / 2.0));
+  const std::vector<Polygon> gaps =
+      geom2d::difference_rings(geom2d::rings_of(geom2d::offset(geom2d::offset_rings(beads, closing), -closing)), beads);
+  std::vector<Ring> held = geom2d::rings_of(geom2d::sweep_open(runs, reach_mm));
+  for (Ring& r : geom2d::rings_of(gaps)) held.push_back(std::move(r));
+  return geom2d::union_rings(held, geom2d::FillRule::kNonZero);
 }
 
 }  // namespace

@@ -499,6 +499,32 @@ TEST(PlanGapFill, TubesOneBeadThickAreLaidAsOneLoopALayer) {
   }
 }
 
+// Tubes of our own whose wall thickens upwards from 2.2 to 3.2 beads (the outside flaring a few
+// degrees): the gap between the inner and outer perimeters widens from the beads' spread (too
+// narrow to lay) to more than half a bead. The first gap fill over it rests on the perimeters to
+// either side; when it was dropped for want of a bead under it, every layer's was, and a perimeter
+// laid over the void at last had nothing under it (768 ungrounded samples, 379 mm² left bare). With
+// defaults: support-free, nothing bare, read back grounded.
+TEST(PlanGapFill, AGapThatWidensUpATubesWallIsFilledOnceWideEnough) {
+  TempDir dir;
+  struct Tube {
+    double bore, wall0, wall1, height;
+    std::uint32_t sides;
+  };
+  for (const Tube t : {Tube{10.0, 2.0, 2.9, 12.0, 96}, Tube{6.0, 1.95, 3.0, 9.0, 64}}) {
+    std::vector<std::array<double, 2>> profile;
+    for (int k = 0; k <= 6; ++k) profile.push_back({t.bore + t.wall0 + (t.wall1 - t.wall0) * k / 6.0, t.height * k / 6.0});
+    const auto [out, plan] = plan_own(dir.path(), fmt::format("tube_{}", t.bore), revolve(profile, t.sides, t.bore));
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const auto report = read_json(out / "report.json");
+    EXPECT_TRUE(report["support_free"].get<bool>()) << report["unsupported_area_mm2"];
+    EXPECT_EQ(report["build_check"]["ungrounded_samples"].get<int>(), 0) << report["build_check"]["problems"];
+    EXPECT_LT(report["thin_area_mm2"].get<double>(), 1.0);
+    EXPECT_NE(slurp(out / "part.ngc").find("gap fill"), std::string::npos);
+    check_readback(out, "part");
+  }
+}
+
 // Bridges of our own (a slab on two legs, two sizes), with defaults: upright, the slab's underside
 // between the legs hangs, and no decomposition holds it (the regions under the slab would reach
 // below the plate or bring the head down to it); turned over, the slab lies on the plate and the

@@ -26,7 +26,8 @@ struct Region {
   double unsupported_area_mm2 = 0.0;    // overhang area in its own direction (0 when support-free)
   // Corners of its surface off its base, lowest among their neighbours along its direction with
   // the solid above them: its first layer there starts on nothing, however steep the facets around
-  // (a keel or a spike pointing down). None when support-free.
+  // (a keel or a spike pointing down). None when support-free; looked for only in a region whose
+  // facets do not overhang.
   std::vector<Vec3> mid_air_starts;
   bool support_free = false;
   std::string rule;  // how its base was found: "plate", "below the plate", "planar face", "fallback plane",
