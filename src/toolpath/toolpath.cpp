@@ -442,7 +442,7 @@ bool has_gap_fill(const LayerToolpaths& layer) {
 // Without them, a gap that widened from layer to layer was never filled, each layer's fill dropped
 // for want of the one below, and a perimeter laid over the void at last had nothing under it (a
 // bent tube's wall 2 to 3 beads thick). Of the runs of deposit that come within two beads of the
-// box of ABOVE's gap-fill paths.
+// box of ABOVE's gap-fill paths; overlapping polygons, whose union (nonzero rule) holds the lines.
 std::vector<Polygon> beads_under(const LayerToolpaths& below, const slicing::Frame& frame, const LayerToolpaths& above, double bead,
                                  double reach_mm) {
   auto local = [&](Vec3 p) {
@@ -450,11 +450,14 @@ std::vector<Polygon> beads_under(const LayerToolpaths& below, const slicing::Fra
     return Point{geom2d::to_units(core::dot(r, frame.u)), geom2d::to_units(core::dot(r, frame.v))};
   };
   std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
+  std::vector<Ring> lines;  // ABOVE's gap fill
   for (const Path& path : above.paths) {
     if (!path.gap_fill) continue;
+    lines.emplace_back();
     for (const PathPoint& p : path.points) {
       const Point q = local(p.position_mm);
       x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
+      lines.back().push_back(q);
     }
   }
   const std::int64_t margin = geom2d::to_units(2.0 * bead);
@@ -478,13 +481,17 @@ std::vector<Polygon> beads_under(const LayerToolpaths& below, const slicing::Fra
     }
     flush();
   }
+  // The gaps, worked out on the beads within two beads of the lines only (the beads of a whole
+  // layer, swept and offset, cost Clipper's hole nesting seconds a layer on a large part).
   const double closing = kGapFillMinWidthBeads * bead / 2.0 + kThinSlackMm;
-  const std::vector<Ring> beads = geom2d::rings_of(geom2d::sweep_open(runs, bead / 2.0));
+  const std::vector<Ring> near = geom2d::clip_open(runs, geom2d::rings_of(geom2d::sweep_open(lines, 2.0 * bead)));
+  const std::vector<Ring> beads = geom2d::rings_of(geom2d::sweep_open(near, bead / 2.0));
   const std::vector<Polygon> gaps =
       geom2d::difference_rings(geom2d::rings_of(geom2d::offset(geom2d::offset_rings(beads, closing), -closing)), beads);
-  std::vector<Ring> held = geom2d::rings_of(geom2d::sweep_open(runs, reach_mm));
-  for (Ring& r : geom2d::rings_of(gaps)) held.push_back(std::move(r));
-  return geom2d::union_rings(held, geom2d::FillRule::kNonZero);
+  // Overlapping pieces: read under the nonzero rule (lines_within), as one.
+  std::vector<Polygon> held = geom2d::sweep_open(runs, reach_mm);
+  held.insert(held.end(), gaps.begin(), gaps.end());
+  return held;
 }
 
 }  // namespace
