@@ -19,7 +19,9 @@ struct PlaneCut {
 
 // Precondition: MESH closed, manifold, outward and free of self-intersections (repair output).
 // Either side may be empty when the plane misses the part. Error kInfeasible when CGAL cannot
-// cut (a self-intersecting input). Cost: O(F log F) (corefinement with the plane's box).
+// cut (a self-intersecting input), and, checked first, when the plane meets a face that crosses
+// another (CGAL's clip is undefined there; it crashed): faces that cross away from the plane are
+// cut around. Cost: O(F log F) (corefinement with the plane's box; the crossing faces' search).
 core::Result<PlaneCut> cut_by_plane(const Mesh& mesh, core::Vec3 point, core::Vec3 normal);
 
 struct CutOff {
