@@ -351,6 +351,18 @@ core::Result<Mesh> difference(const Mesh& a, const Mesh& b) {
   return to_mesh(out);
 }
 
+core::Result<Mesh> intersection(const Mesh& a, const Mesh& b) {
+  SurfaceMesh sa = to_surface_mesh(a), sb = to_surface_mesh(b), out;
+  try {
+    if (!PMP::corefine_and_compute_intersection(sa, sb, out)) {
+      return core::make_error(core::ErrorCode::kInfeasible, "the intersection of the solids failed (they would meet along an edge or a point only)");
+    }
+  } catch (const std::exception& e) {
+    return core::make_error(core::ErrorCode::kInfeasible, std::string("the intersection of the solids failed: ") + e.what());
+  }
+  return to_mesh(out);
+}
+
 core::Result<Mesh> without_crossings(const Mesh& mesh) {
   SurfaceMesh sm = to_surface_mesh(mesh);
   try {

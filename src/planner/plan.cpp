@@ -244,6 +244,15 @@ std::shared_ptr<const mesh::SurfaceDistance> prebuilt_surface(const std::vector<
   return std::make_shared<const mesh::SurfaceDistance>(all);
 }
 
+// TRUNK (part frame) placed, the base of conformal layers of the branches on it: null unless LAYERS
+// asks for conformal or automatic layers.
+std::shared_ptr<const mesh::SurfaceDistance> trunk_surface(const mesh::Mesh& trunk, const Placement& placement, LayerChoice layers) {
+  if (layers != LayerChoice::kConformal && layers != LayerChoice::kAuto) return nullptr;
+  mesh::Mesh placed = trunk;
+  for (Vec3& v : placed.vertices) v = placement.apply(v);
+  return std::make_shared<const mesh::SurfaceDistance>(placed);
+}
+
 // A prebuilt region's parent and the regions it rests on are prebuilt too: a region cannot be on
 // the table before the one it grows from is built.
 core::Status check_prebuilt(const std::vector<PlanRegion>& regions) {
@@ -620,7 +629,9 @@ double steady_turn_deg_per_mm(const machine::MachineConfig& machine, const proce
 core::Result<slicing::SliceResult> slice_region(PlanRegion& region, const std::vector<PlanRegion>& regions, const mesh::EdgeTopology* topology,
                                                 const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                                 const PlanOptions& options, const std::shared_ptr<const mesh::SurfaceDistance>& base) {
-  auto layers = region_layers(region, topology, machine, process, options, base);
+  // A trunk's surface is the base of the branches on it only.
+  static const std::shared_ptr<const mesh::SurfaceDistance> none;
+  auto layers = region_layers(region, topology, machine, process, options, options.trunk && !region.on_trunk ? none : base);
   if (!layers) return layers;
   trim_over_prebuilt(layers.value(), regions, region, process.layer_min_mm);
   return layers;
@@ -788,7 +799,8 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   }
   if (auto s = place_checks(regions, machine, process, plan); !s) return s.error();
   plan.regions = static_cast<std::uint32_t>(regions.size());
-  const std::shared_ptr<const mesh::SurfaceDistance> base = prebuilt_surface(regions, options.layers);
+  const std::shared_ptr<const mesh::SurfaceDistance> base = options.trunk ? trunk_surface(*options.trunk, plan.placement, options.layers)
+                                                                          : prebuilt_surface(regions, options.layers);
   auto stopped = [&] { return options.stop != nullptr && options.stop->load(std::memory_order_relaxed); };
   const core::Error stop_error{core::ErrorCode::kInfeasible, "stopped"};
   // The whole part's topology is valid only for the unsplit part.

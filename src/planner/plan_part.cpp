@@ -20,6 +20,7 @@
 #include "polyaxis/mesh/topology.h"
 #include "polyaxis/post/traori.h"
 #include "core/arena.h"
+#include "branches.h"
 #include "reach.h"
 
 namespace polyaxis::planner {
@@ -640,6 +641,98 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
   return std::move(made[*best]->value());
 }
 
+// The regions of CANDIDATE (a plan of TRUNK) in the part's frame: a decomposition's as it took
+// them, or the whole trunk along the candidate's one direction.
+std::vector<PlanRegion> trunk_regions(const Candidate& candidate, const mesh::Mesh& trunk) {
+  if (!candidate.regions.empty()) return candidate.regions;
+  const Placement& placed = candidate.plan.placement;
+  PlanRegion whole;
+  whole.mesh = trunk;
+  whole.direction = placed.unrotate({0, 0, 1});
+  whole.base_point = lowest_along(trunk, whole.direction);
+  whole.rule = kRegionTrunk;
+  whole.volume_mm3 = std::abs(mesh::signed_volume(trunk));
+  return {whole};
+}
+
+// SPLIT's trunk planned as a part of its own (the automatic choice, its label in TRUNK_WHY), then
+// with its regions the branches, SPLIT.rest's pieces, each along the trunk's outward normal under
+// its base turned into the tilt's reach, built after the whole trunk with the trunk's surface as the
+// base of their conformal layers (auto layers take those where they leave less overhang).
+core::Result<Candidate> plan_on_trunk(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                      const process::ProcessConfig& process, const PlanPartOptions& o, const detail::TrunkSplit& split,
+                                      std::string& trunk_why) {
+  auto trunk = mesh::repair(io::RawMesh{split.trunk.vertices, split.trunk.triangles});
+  if (!trunk) return trunk.error();
+  if (trunk.value().shells.size() != 1) return core::make_error(core::ErrorCode::kInfeasible, "the trunk is not one solid");
+  PartMemo memo(trunk.value());
+  auto built = choose_auto(trunk.value(), machine, process, o, memo, trunk_why);
+  if (!built) return built.error();
+  std::vector<PlanRegion> regions = trunk_regions(built.value(), trunk.value().mesh);
+  std::vector<std::uint32_t> below;
+  std::uint32_t root = regions.front().id, next = 0;
+  for (const PlanRegion& r : regions) {
+    below.push_back(r.id), next = std::max(next, r.id + 1);
+    if (!r.parent) root = r.id;
+  }
+  const Vec3 up = core::normalized(o.direction);
+  const double reach = detail::direction_reach_rad(machine, process);
+  for (mesh::Mesh& piece : connected_pieces(split.rest)) {
+    Vec3 d = base_normal(piece, split.trunk).value_or(up);
+    const double angle = std::acos(std::clamp(core::dot(d, up), -1.0, 1.0));
+    if (angle > reach) d = turned_towards(d, up, (angle - reach) * 180.0 / std::numbers::pi);
+    PlanRegion r = on_substrate_region(next++, std::move(piece), d);
+    r.parent = root, r.rests_on = below, r.rule = kRegionOnTrunk, r.on_trunk = true;
+    regions.push_back(std::move(r));
+  }
+  PlanOptions po = o.plan;
+  po.direction = regions.front().direction;
+  po.trunk = std::make_shared<const mesh::Mesh>(split.tubes);
+  auto plan = make_plan(part, machine, process, po, regions);
+  if (!plan) return plan.error();
+  Candidate c;
+  c.plan = std::move(plan.value());
+  c.strategy = Strategy::kDecompose;
+  c.regions = std::move(regions);
+  c.plan_options = po;
+  return c;
+}
+
+// CHOSEN (auto's choice, WHY its reasons) or, when it is not support-free and the layers are
+// automatic, the part split into a trunk and branches (detail::trunk_splits) when that does better.
+core::Result<Candidate> with_trunk_splits(core::Result<Candidate> chosen, const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                          const process::ProcessConfig& process, const PlanPartOptions& o, std::string& why) {
+  if (!chosen || chosen.value().plan.unsupported_area_mm2 == 0.0 || o.plan.layers != LayerChoice::kAuto ||
+      !machine::has_rotary_axes(machine.kind)) {
+    return chosen;
+  }
+  std::vector<std::string> tried;
+  for (const detail::TrunkSplit& split : detail::trunk_splits(part, process.bead_width_mm)) {
+    if (!split.refused.empty()) {
+      tried.push_back(fmt::format("{} on the trunk: {}", split.label, split.refused));
+      continue;
+    }
+    std::string trunk_why;
+    auto on_trunk = plan_on_trunk(part, machine, process, o, split, trunk_why);
+    if (!on_trunk) {
+      tried.push_back(fmt::format("{} on the trunk: {}", split.label, on_trunk.error().message));
+      continue;
+    }
+    const Plan& p = on_trunk.value().plan;
+    if (!better(p, chosen.value().plan)) {
+      tried.push_back(fmt::format("{} on the trunk: {} mm2 unsupported", split.label, area_text(p.unsupported_area_mm2)));
+      continue;
+    }
+    why = fmt::format("{} grown on the trunk ({} region{}, {}; the trunk: {}; before: {})", split.label, p.regions, p.regions == 1 ? "" : "s",
+                      p.unsupported_area_mm2 == 0.0 ? std::string("support-free") : area_text(p.unsupported_area_mm2) + " mm2 unsupported",
+                      trunk_why, why);
+    chosen = std::move(on_trunk);
+    if (p.unsupported_area_mm2 == 0.0) return chosen;
+  }
+  if (!tried.empty()) why += fmt::format("; also tried: {}", fmt::join(tried, "; "));
+  return chosen;
+}
+
 core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                const PlanPartOptions& o, std::string& why) {
   PartMemo memo(part);
@@ -663,7 +756,7 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
   // Auto: one direction; then the decomposition rooted as asked, at the lowest point; then with the
   // part turned over, one direction and the decomposition; the best that succeeds, taken in that
   // order up to the first that is support-free.
-  return choose_auto(part, machine, process, o, memo, why);
+  return with_trunk_splits(choose_auto(part, machine, process, o, memo, why), part, machine, process, o, why);
 }
 
 // The program of a chosen plan: G-code, its simulation against the plan and its verification
@@ -753,6 +846,25 @@ std::optional<PlanPartResult> clean_program(core::Result<Candidate> candidate, S
   if (!program_of(machine, process, options, out) || !relieve(machine, process, options, out)) return std::nullopt;
   if (out.check.collisions > 0 || !out.check.mid_air_regions.empty()) return std::nullopt;
   return out;
+}
+
+// The part split into a trunk and branches (detail::trunk_splits, plan_on_trunk) whose program
+// reads back clean, the first support-free one or else the one with the least unsupported area,
+// with its label; for a decomposition that failed read-back where one direction overhangs. None
+// unless the layers are automatic.
+std::optional<std::pair<PlanPartResult, std::string>> clean_on_trunk(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                                                     const process::ProcessConfig& process, const PlanPartOptions& options) {
+  if (options.plan.layers != LayerChoice::kAuto || !machine::has_rotary_axes(machine.kind)) return std::nullopt;
+  std::optional<std::pair<PlanPartResult, std::string>> best;
+  for (const detail::TrunkSplit& split : detail::trunk_splits(part, process.bead_width_mm)) {
+    if (!split.refused.empty()) continue;
+    std::string trunk_why;
+    auto clean = clean_program(plan_on_trunk(part, machine, process, options, split, trunk_why), Strategy::kDecompose, machine, process, options);
+    if (!clean || (best && !better(clean->plan, best->first.plan))) continue;
+    best.emplace(std::move(*clean), fmt::format("{} grown on the trunk (the trunk: {})", split.label, trunk_why));
+    if (best->first.plan.unsupported_area_mm2 == 0.0) break;
+  }
+  return best;
 }
 
 // Directions to build REGIONS[I] along in place of its own: its base's normal, half-way to it, its
@@ -854,7 +966,7 @@ std::optional<PlanPartResult> redirected(const mesh::RepairedMesh& part, const m
 // One direction in place of a decomposition whose program failed: upright and, where auto may turn
 // the part over, turned over and stood on a side face (side_direction) too, the better first (as
 // choose_auto takes them); the first that reads back clean, with its label.
-std::optional<std::pair<PlanPartResult, const char*>> clean_single(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+std::optional<std::pair<PlanPartResult, std::string>> clean_single(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                                                    const process::ProcessConfig& process, const PlanPartOptions& options) {
   std::vector<std::pair<core::Result<Candidate>, const char*>> tries;
   tries.emplace_back(plan_single(part, machine, process, options), kAutoLabels[kOneDirection]);
@@ -873,7 +985,7 @@ std::optional<std::pair<PlanPartResult, const char*>> clean_single(const mesh::R
     });
   }
   for (auto& [candidate, label] : tries) {
-    if (auto clean = clean_program(std::move(candidate), Strategy::kSingle, machine, process, options)) return std::pair{std::move(*clean), label};
+    if (auto clean = clean_program(std::move(candidate), Strategy::kSingle, machine, process, options)) return std::pair{std::move(*clean), std::string(label)};
   }
   return std::nullopt;
 }
@@ -884,7 +996,7 @@ class SingleFallback {
   SingleFallback(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                  const PlanPartOptions& options)
       : part_(part), machine_(machine), process_(process), options_(options) {}
-  std::optional<std::pair<PlanPartResult, const char*>>& get() {
+  std::optional<std::pair<PlanPartResult, std::string>>& get() {
     if (!made_) made_.emplace(clean_single(part_, machine_, process_, options_));
     return *made_;
   }
@@ -894,7 +1006,7 @@ class SingleFallback {
   const machine::MachineConfig& machine_;
   const process::ProcessConfig& process_;
   const PlanPartOptions& options_;
-  std::optional<std::optional<std::pair<PlanPartResult, const char*>>> made_;
+  std::optional<std::optional<std::pair<PlanPartResult, std::string>>> made_;
 };
 
 // No build order or torch tilt cleared the head in OUT, CHOSEN's decomposition (relieve): the
@@ -1068,7 +1180,14 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // the program, such as C winding past its end stops on a tilted region), or, read back, a
     // region starts in mid-air, or the head strikes something no order or tilt could avoid: one
     // direction instead (upright, turned over or on a side face), when that one reads back clean.
-    if (auto& clean = single.get()) {
+    auto& clean = single.get();
+    if (!clean || clean->first.plan.unsupported_area_mm2 > 0.0) {
+      // Where one direction overhangs, the trunk and its branches may not.
+      if (auto trunk = clean_on_trunk(part, machine, process, options); trunk && (!clean || better(trunk->first.plan, clean->first.plan))) {
+        clean.emplace(std::move(trunk->first), std::move(trunk->second));
+      }
+    }
+    if (clean) {
       auto& [alt, label] = *clean;
       const std::string why =
           !made     ? fmt::format("the decomposition's program cannot be written: {}", made.error().message)

@@ -5,6 +5,7 @@
 
 #include "polyaxis/planner/plan.h"
 #include "polyaxis/slicing/conformal.h"
+#include "branches.h"
 #include "clearance.h"
 #include "reach.h"
 
@@ -37,6 +38,13 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
        "the part less the substrate (--substrate), deposited onto the substrate along the given direction; its first beads rest on the "
        "substrate's surface",
        {}},
+      {kRegionTrunk, "the part's trunk, split off along its skeleton from the branches that grow out of its side, built first as one region",
+       {}},
+      {kRegionOnTrunk,
+       "a branch that leaves its trunk sideways (the part along its skeleton, the trunk being the part within the tubes around the "
+       "other skeleton edges): built after the trunk along the trunk's outward normal under its base, its first beads on the trunk's "
+       "curved surface, where a plane cut would leave its start hanging",
+       {{"tube_sides", detail::kTubeSides}, {"tube_margin_beads", detail::kTubeMarginBeads}}},
       {kDirectionRedirected,
        "a region is built along another direction than the decomposition gave it: along that one the head struck earlier deposit, the "
        "plate or the table where no build order or torch tilt cleared it; tried in turn, its base's normal, half-way to it, its parent's "

@@ -58,6 +58,10 @@ core::Result<Mesh> unite(const std::vector<Mesh>& pieces);
 // that would not be a manifold, such as solids meeting along an edge only). Cost: O(F log F).
 core::Result<Mesh> difference(const Mesh& a, const Mesh& b);
 
+// A and B's common solid (closed, outward, non-self-intersecting): closed; empty when they do not
+// meet. Errors and cost as difference().
+core::Result<Mesh> intersection(const Mesh& a, const Mesh& b);
+
 // The surface of the solid that MESH (closed, outward) bounds where its faces cross one another:
 // the faces are split along their crossings and the parts inside the solid dropped (CGAL's
 // autorefinement). Meant for a surface grown() a little, whose faces cross where it was folded

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,6 +59,10 @@ struct PlanOptions {
   // (before a region is sliced, before sequencing, before the program) with kInfeasible
   // "stopped". Null: it runs to its end.
   const std::atomic<bool>* stop = nullptr;
+  // A solid of the part built before the regions that grow on it (PlanRegion::on_trunk), in the
+  // part's frame: the base of their conformal layers, in place of a prebuilt part's surface. Set by
+  // plan_part for branches grown on their trunk; null otherwise.
+  std::shared_ptr<const mesh::Mesh> trunk;
 };
 
 // Support check (SPEC §3): a layer's area outside the layer below grown by t·tan(α), where α is
@@ -99,6 +104,9 @@ struct PlanRegion {
   // holds it (machine::PrebuiltBody), the support check counts it as built before every region,
   // and the regions resting on it start on its surface.
   bool prebuilt = false;
+  // Grows on PlanOptions::trunk, which the regions before it build: its layers may follow the
+  // trunk's surface (conformal layers), as a prebuilt part's.
+  bool on_trunk = false;
 };
 
 // The rule of a region built along another direction than the decomposition's: along that one the
@@ -112,6 +120,10 @@ inline constexpr double kRedirectMinDeg = 5.0;
 inline constexpr const char* kRegionSubstrate = "substrate";
 // The rule of a deposited region laid onto a substrate (--substrate): the part less the substrate.
 inline constexpr const char* kRegionOnSubstrate = "on the substrate";
+// The rules of a part split into a trunk and the branches that grow on it (plan_part): the trunk
+// when it is built as one region, and each branch.
+inline constexpr const char* kRegionTrunk = "trunk";
+inline constexpr const char* kRegionOnTrunk = "branch on its trunk";
 
 struct LayerReport {
   std::uint32_t index = 0;

@@ -198,6 +198,26 @@ TEST(Difference, OverlapDisjointAndContained) {
   EXPECT_TRUE(inside.value().triangles.empty());
 }
 
+TEST(Intersection, OverlapDisjointAndContained) {
+  using test::box;
+  // A block and a slab across its lower part: their common slab, closed; with the difference, the block.
+  const Mesh block = solid(box({0, 0, 0}, {10, 20, 30})), slab = solid(box({-5, -5, -1}, {15, 25, 12}));
+  const auto lower = intersection(block, slab);
+  ASSERT_TRUE(lower.ok()) << lower.error().message;
+  expect_closed(lower.value());
+  EXPECT_NEAR(signed_volume(lower.value()), 10.0 * 20.0 * 12.0, 1e-6);
+  const auto upper = difference(block, slab);
+  ASSERT_TRUE(upper.ok());
+  EXPECT_NEAR(signed_volume(lower.value()) + signed_volume(upper.value()), signed_volume(block), 1e-6);
+  // Apart: nothing; inside: the inner one.
+  const auto apart = intersection(solid(box({0, 0, 0}, {4, 4, 4})), solid(box({10, 0, 0}, {14, 4, 4})));
+  ASSERT_TRUE(apart.ok());
+  EXPECT_TRUE(apart.value().triangles.empty());
+  const auto inside = intersection(solid(box({1, 1, 1}, {3, 3, 3})), solid(box({0, 0, 0}, {4, 4, 4})));
+  ASSERT_TRUE(inside.ok());
+  EXPECT_NEAR(signed_volume(inside.value()), 8.0, 1e-9);
+}
+
 TEST(Grown, MovesSmoothSurfacesByTheOffsetAndCornersAlongTheirMeanNormal) {
   // A fine cylinder's side moves out by the offset (its radius grows by it, to the faceting).
   const Mesh bar = solid(test::cylinder({0, 0, 0}, {0, 0, 1}, 10, 20, 96));
