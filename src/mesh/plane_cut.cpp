@@ -339,28 +339,30 @@ core::Result<Mesh> unite(const std::vector<Mesh>& pieces) {
   return to_mesh(out.value());
 }
 
-core::Result<Mesh> difference(const Mesh& a, const Mesh& b) {
+namespace {
+
+// OP(a, b, out) of CGAL's corefinement booleans on A and B, named WHAT in its errors.
+template <class Op>
+core::Result<Mesh> corefined(const Mesh& a, const Mesh& b, const char* what, Op op) {
   SurfaceMesh sa = to_surface_mesh(a), sb = to_surface_mesh(b), out;
   try {
-    if (!PMP::corefine_and_compute_difference(sa, sb, out)) {
-      return core::make_error(core::ErrorCode::kInfeasible, "the difference of the solids failed (they would meet along an edge or a point only)");
+    if (!op(sa, sb, out)) {
+      return core::make_error(core::ErrorCode::kInfeasible, fmt::format("the {} of the solids failed (they would meet along an edge or a point only)", what));
     }
   } catch (const std::exception& e) {
-    return core::make_error(core::ErrorCode::kInfeasible, std::string("the difference of the solids failed: ") + e.what());
+    return core::make_error(core::ErrorCode::kInfeasible, fmt::format("the {} of the solids failed: {}", what, e.what()));
   }
   return to_mesh(out);
 }
 
+}  // namespace
+
+core::Result<Mesh> difference(const Mesh& a, const Mesh& b) {
+  return corefined(a, b, "difference", [](SurfaceMesh& x, SurfaceMesh& y, SurfaceMesh& out) { return PMP::corefine_and_compute_difference(x, y, out); });
+}
+
 core::Result<Mesh> intersection(const Mesh& a, const Mesh& b) {
-  SurfaceMesh sa = to_surface_mesh(a), sb = to_surface_mesh(b), out;
-  try {
-    if (!PMP::corefine_and_compute_intersection(sa, sb, out)) {
-      return core::make_error(core::ErrorCode::kInfeasible, "the intersection of the solids failed (they would meet along an edge or a point only)");
-    }
-  } catch (const std::exception& e) {
-    return core::make_error(core::ErrorCode::kInfeasible, std::string("the intersection of the solids failed: ") + e.what());
-  }
-  return to_mesh(out);
+  return corefined(a, b, "intersection", [](SurfaceMesh& x, SurfaceMesh& y, SurfaceMesh& out) { return PMP::corefine_and_compute_intersection(x, y, out); });
 }
 
 core::Result<Mesh> without_crossings(const Mesh& mesh) {
