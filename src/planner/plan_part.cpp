@@ -657,8 +657,9 @@ std::vector<PlanRegion> trunk_regions(const Candidate& candidate, const mesh::Me
 
 // SPLIT's trunk planned as a part of its own (the automatic choice, its label in TRUNK_WHY), then
 // with its regions the branches, SPLIT.rest's pieces, each along the trunk's outward normal under
-// its base turned into the tilt's reach, built after the whole trunk with the trunk's surface as the
-// base of their conformal layers (auto layers take those where they leave less overhang).
+// its base turned into the tilt's reach, built after the whole trunk with the surface of the
+// trunk's tubes (SPLIT.tubes, where they cut the part: the branches' base) as the base of their
+// conformal layers (auto layers take those where they leave less overhang).
 core::Result<Candidate> plan_on_trunk(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                       const process::ProcessConfig& process, const PlanPartOptions& o, const detail::TrunkSplit& split,
                                       std::string& trunk_why) {
