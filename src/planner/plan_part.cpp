@@ -14,6 +14,7 @@
 #include <mutex>
 #include <numbers>
 
+#include "polyaxis/mesh/distance.h"
 #include "polyaxis/mesh/plane_cut.h"
 #include "polyaxis/mesh/properties.h"
 #include "polyaxis/mesh/self_intersections.h"
@@ -207,42 +208,24 @@ constexpr double kOnSubstrateMm = 1e-6;
 constexpr double kFacingCos = 0.999;
 
 // The outward normal of the substrate where PIECE stands on it: the area-weighted mean of the
-// substrate faces PIECE's base lies on (none: the piece does not touch the substrate).
+// substrate faces PIECE's base lies on (none: the piece does not touch the substrate). A face of
+// PIECE is on the substrate when its centroid is within kOnSubstrateMm of the substrate face nearest
+// to it and faces into that face. Cost: O((F_piece + F_substrate) log F_substrate).
 std::optional<Vec3> base_normal(const mesh::Mesh& piece, const mesh::Mesh& substrate) {
-  // Only the substrate's faces whose box meets the piece's can hold its base.
-  core::Box3 box;
-  for (const Vec3& v : piece.vertices) box.add(v);
-  std::vector<std::size_t> near;
-  for (std::size_t g = 0; g < substrate.triangles.size(); ++g) {
-    core::Box3 face;
-    for (int k = 0; k < 3; ++k) face.add(substrate.corner(g, k));
-    if (face.min.x <= box.max.x + kOnSubstrateMm && face.max.x >= box.min.x - kOnSubstrateMm && face.min.y <= box.max.y + kOnSubstrateMm &&
-        face.max.y >= box.min.y - kOnSubstrateMm && face.min.z <= box.max.z + kOnSubstrateMm && face.max.z >= box.min.z - kOnSubstrateMm) {
-      near.push_back(g);
-    }
-  }
+  const mesh::SurfaceDistance surface(substrate);
+  if (surface.empty()) return std::nullopt;
   Vec3 sum;
   for (std::size_t f = 0; f < piece.triangles.size(); ++f) {
     const Vec3 area = mesh::face_area_vector(piece, f);
     const double a2 = core::norm(area);
     if (!(a2 > 0.0)) continue;
-    const Vec3 n = area / a2, c = (piece.corner(f, 0) + piece.corner(f, 1) + piece.corner(f, 2)) / 3.0;
-    for (const std::size_t g : near) {
-      const Vec3 sa = mesh::face_area_vector(substrate, g);
-      const double s2 = core::norm(sa);
-      if (!(s2 > 0.0) || core::dot(sa / s2, n) > -kFacingCos) continue;
-      const Vec3 p0 = substrate.corner(g, 0);
-      if (std::abs(core::dot(c - p0, sa / s2)) > kOnSubstrateMm) continue;
-      // The centroid inside the triangle (same side of each edge as the normal says).
-      bool inside = true;
-      for (int k = 0; k < 3 && inside; ++k) {
-        const Vec3 e0 = substrate.corner(g, k), e1 = substrate.corner(g, (k + 1) % 3);
-        inside = core::dot(core::cross(e1 - e0, c - e0), sa) >= 0.0;
-      }
-      if (!inside) continue;
-      sum = sum + sa * (0.5 * a2 / s2);  // the piece face's area along the substrate's normal
-      break;
-    }
+    const Vec3 c = (piece.corner(f, 0) + piece.corner(f, 1) + piece.corner(f, 2)) / 3.0;
+    const mesh::Nearest near = surface.nearest(c);
+    if (std::abs(near.signed_mm) > kOnSubstrateMm) continue;
+    const Vec3 sa = mesh::face_area_vector(substrate, near.face);
+    const double s2 = core::norm(sa);
+    if (!(s2 > 0.0) || core::dot(sa / s2, area / a2) > -kFacingCos) continue;
+    sum = sum + sa * (0.5 * a2 / s2);  // the piece face's area along the substrate's normal
   }
   if (!(core::norm(sum) > 0.0)) return std::nullopt;
   return core::normalized(sum);
@@ -1099,16 +1082,43 @@ core::Result<PlanPartResult> finished(PlanPartResult out, const machine::Machine
   if (!out.check.mid_air_regions.empty()) {
     out.warnings.push_back(fmt::format("read back, region {} starts in mid-air: its first bead rests on nothing", out.check.mid_air_regions.front()));
   }
+  if (out.check.ungrounded_samples > 0) {
+    // Beads over the overhang reported above, or over a gap between the beads of the layer below
+    // that the layers' own check, made on their sections, does not see.
+    const auto first = std::find_if(out.check.first_problems.begin(), out.check.first_problems.end(),
+                                    [](const std::string& p) { return p.find(verify::kUngroundedProblem) != std::string::npos; });
+    out.warnings.push_back(fmt::format("read back, {} of {} deposit samples rest on no earlier deposit within {:.3f} mm under them and {:.3f} mm "
+                                       "across{}",
+                                       out.check.ungrounded_samples, out.check.deposit_samples, out.check.ground_mm, out.check.ground_lateral_mm,
+                                       first == out.check.first_problems.end() ? std::string() : "; the first: " + *first));
+  }
   return out;
 }
 
+// A choice that was not programmed because it could not beat the plan it was made to be compared
+// with: its figures, as better() ranks them.
+struct Outdone {
+  double unsupported_area_mm2 = 0.0;
+  std::size_t regions = 0, reorientations = 0;
+};
+
 // plan_part with the layers OPTIONS.plan.layers asks for (plan_part adds the comparison of auto
-// layers with planar ones).
+// layers with planar ones). With TO_BEAT (the unsupported area of a plan that reads back clean), a
+// choice leaving more than that is not programmed: what follows the choice (relief, the regions
+// turned elsewhere, the fallbacks to one direction) is made to clear collisions, not overhang, and
+// each of its alternatives was ranked below the choice, so it cannot win. Its figures go to
+// OUTDONE and the result is an error.
 core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                                const process::ProcessConfig& process, const PlanPartOptions& options) {
+                                                const process::ProcessConfig& process, const PlanPartOptions& options,
+                                                std::optional<double> to_beat = std::nullopt, std::optional<Outdone>* outdone = nullptr) {
   PlanPartResult out;
   const auto t_choose = Clock::now();
   auto chosen = choose(part, machine, process, options, out.choice);
+  if (chosen && to_beat && chosen.value().plan.unsupported_area_mm2 > *to_beat + kUnsupportedNoiseMm2) {
+    const Plan& p = chosen.value().plan;
+    if (outdone != nullptr) outdone->emplace(Outdone{p.unsupported_area_mm2, p.regions, p.reorientations});
+    return core::make_error(core::ErrorCode::kInfeasible, "outdone before its program");
+  }
   if (!chosen) {
     if (options.plan.layers != LayerChoice::kAuto) return chosen.error();
     // Layers auto chose that cannot be planned (no torch axis keeps the head off the plate along
@@ -1222,9 +1232,18 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
   // less unsupported area, fewer regions, fewer reorientations).
   PlanPartOptions planar_options = options;
   planar_options.plan.layers = LayerChoice::kPlanar;
-  auto planar = plan_part_as_asked(part, machine, process, planar_options);
-  if (!planar) return first;
   auto clean = [](const PlanPartResult& r) { return r.check.collisions == 0 && r.check.mid_air_regions.empty(); };
+  std::optional<Outdone> outdone;
+  auto planar = plan_part_as_asked(part, machine, process, planar_options,
+                                   clean(first.value()) ? std::optional<double>(first.value().plan.unsupported_area_mm2) : std::nullopt, &outdone);
+  if (outdone) {
+    const Plan& kept = first.value().plan;
+    first.value().choice += fmt::format("; {} layers: {} mm2 unsupported, {} regions, {} reorientations against {}, {}, {} on planar layers (chosen, not programmed)",
+                                        turned, area_text(kept.unsupported_area_mm2), kept.regions, kept.reorientations,
+                                        area_text(outdone->unsupported_area_mm2), outdone->regions, outdone->reorientations);
+    return first;
+  }
+  if (!planar) return first;
   const bool take_planar = clean(planar.value()) != clean(first.value()) ? clean(planar.value()) : better(planar.value().plan, first.value().plan);
   PlanPartResult& kept = take_planar ? planar.value() : first.value();
   const PlanPartResult& other = take_planar ? first.value() : planar.value();

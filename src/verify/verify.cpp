@@ -413,8 +413,8 @@ core::Result<BuildCheck> verify_build(const machine::MachineConfig& m, const pro
       if (p.first_of_region) out.mid_air_regions.push_back(p.region);
       if (out.ungrounded_samples <= 3) {
         problem(p.line, p.layer, p.region,
-                fmt::format("deposit at ({:.3f}, {:.3f}, {:.3f}) with no earlier deposit within {:.3f} mm under it and {:.3f} mm across",
-                            p.tip.x, p.tip.y, p.tip.z, h_max, lateral_max));
+                fmt::format("deposit at ({:.3f}, {:.3f}, {:.3f}) {} within {:.3f} mm under it and {:.3f} mm across",
+                            p.tip.x, p.tip.y, p.tip.z, kUngroundedProblem, h_max, lateral_max));
       }
     }
     for (const Pending& p : this_layer) grid.add(p.tip);

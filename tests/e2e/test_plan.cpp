@@ -184,6 +184,11 @@ TEST(PlanLBlock, DecompositionBuildsTheArmAlongXAndIsSupportFree) {
   ASSERT_EQ(planar.exit_code, 0) << planar.err;
   EXPECT_FALSE(read_json(dir / "planar" / "report.json")["support_free"].get<bool>());  // the arm's underside
   EXPECT_FALSE(read_json(dir / "planar" / "plan.json")["regions"][0]["support_free"].get<bool>());
+  // Read back, the beads over the arm's underside rest on nothing, and a warning counts them.
+  const int ungrounded = read_json(dir / "planar" / "report.json")["build_check"]["ungrounded_samples"].get<int>();
+  EXPECT_GT(ungrounded, 0);
+  EXPECT_NE(planar.err.find("warning: read back, " + std::to_string(ungrounded) + " of "), std::string::npos) << planar.err;
+  EXPECT_NE(planar.err.find("rest on no earlier deposit"), std::string::npos) << planar.err;
   const auto split = run_cli("plan '" + part + "' --decompose -o '" + (dir / "split").string() + "'");
   ASSERT_EQ(split.exit_code, 0) << split.err;
   const auto report = read_json(dir / "split" / "report.json");

@@ -81,6 +81,9 @@ struct Collision {
   double depth_mm = 0.0;   // how far into the body (material: its ball into the head; ≤ 0 within the margin)
 };
 
+// The words of a BuildCheck problem for a deposit sample with nothing under it.
+inline constexpr std::string_view kUngroundedProblem = "with no earlier deposit";
+
 struct BuildCheck {
   std::uint64_t samples = 0;               // tool positions checked (every move, sampled)
   std::uint64_t head_collisions = 0;       // of which with the head below the plate or the table
