@@ -147,7 +147,12 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
       const Vec3 q = normalized(pole - un * dot(un, pole));
       const double a0 = std::atan2(norm(cross(t0, q)), dot(t0, q)), a1 = std::atan2(norm(cross(q, t1)), dot(q, t1));
       const double e0 = std::atan2(norm(cross(t0, pole)), dot(t0, pole)), e1 = std::atan2(norm(cross(t1, pole)), dot(t1, pole));
-      if (off == 0.0 || off >= kPoleSnapRad || e0 < kPoleSnapRad || e1 < kPoleSnapRad || std::abs(a0 + a1 - omega) > 1e-9) continue;
+      // Also where an end lies within kPoleSnapRad of the pole, when the arc passes the pole
+      // nearer than both ends, between them (an end a tenth of a degree off the pole on the far
+      // side: C swings through most of a half turn in a piece too short to follow). An end on
+      // the pole (a leg of this split) has no pass between.
+      const bool passes = std::abs(a0 + a1 - omega) <= 1e-9 && off < std::min(e0, e1) && std::min(a0, a1) >= kSingularTiltRad;
+      if (off == 0.0 || off >= kPoleSnapRad || !passes) continue;
       const Vec3 pm = lerp(p0, p1, a0 / omega);
       auto first = subdivide(machine, p0, t0, pm, pole, start, chordal_mm);
       if (!first) return first.error();

@@ -717,9 +717,9 @@ core::Result<Candidate> with_trunk_splits(core::Result<Candidate> chosen, const 
   return chosen;
 }
 
+// MEMO: the part's analyses, kept across the calls for one part (the layers do not change them).
 core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
-                               const PlanPartOptions& o, std::string& why) {
-  PartMemo memo(part);
+                               const PlanPartOptions& o, PartMemo& memo, std::string& why) {
   if (o.substrate) return choose_on_substrate(part, machine, process, o, why);
   if (!o.prebuilt.empty()) {
     if (o.strategy == Strategy::kSingle) {
@@ -1109,11 +1109,11 @@ struct Outdone {
 // each of its alternatives was ranked below the choice, so it cannot win. Its figures go to
 // OUTDONE and the result is an error.
 core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                                const process::ProcessConfig& process, const PlanPartOptions& options,
+                                                const process::ProcessConfig& process, const PlanPartOptions& options, PartMemo& memo,
                                                 std::optional<double> to_beat = std::nullopt, std::optional<Outdone>* outdone = nullptr) {
   PlanPartResult out;
   const auto t_choose = Clock::now();
-  auto chosen = choose(part, machine, process, options, out.choice);
+  auto chosen = choose(part, machine, process, options, memo, out.choice);
   if (chosen && to_beat && chosen.value().plan.unsupported_area_mm2 > *to_beat + kUnsupportedNoiseMm2) {
     const Plan& p = chosen.value().plan;
     if (outdone != nullptr) outdone->emplace(Outdone{p.unsupported_area_mm2, p.regions, p.reorientations});
@@ -1125,7 +1125,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // tilted layers, say): the whole choice again on planar layers, when that reads back clean.
     PlanPartOptions planar = options;
     planar.plan.layers = LayerChoice::kPlanar;
-    auto alt = plan_part_as_asked(part, machine, process, planar);
+    auto alt = plan_part_as_asked(part, machine, process, planar, memo);
     if (!alt || alt.value().check.collisions > 0 || !alt.value().check.mid_air_regions.empty()) return chosen.error();
     const std::string why = fmt::format("the layers auto chose cannot be planned: {}", chosen.error().message);
     alt.value().choice += fmt::format("; planar layers: {}", why);
@@ -1148,7 +1148,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // choice again on planar layers, when that reads back clean.
     PlanPartOptions planar = options;
     planar.plan.layers = LayerChoice::kPlanar;
-    auto alt = plan_part_as_asked(part, machine, process, planar);
+    auto alt = plan_part_as_asked(part, machine, process, planar, memo);
     if (alt && alt.value().check.collisions == 0 && alt.value().check.mid_air_regions.empty()) {
       const std::string why = !made     ? fmt::format("the {} layers' program cannot be written: {}", turned, made.error().message)
                               : mid_air ? fmt::format("read back, the {} layers' region {} starts in mid-air", turned, out.check.mid_air_regions.front())
@@ -1223,7 +1223,8 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
                                                 const process::ProcessConfig& process, const PlanPartOptions& asked) {
   PlanPartOptions options = asked;
   if (options.gcode.part == nullptr) options.gcode.part = &part.mesh;  // the posts that carry the part (3MF toolpath)
-  auto first = plan_part_as_asked(part, machine, process, options);
+  PartMemo memo(part);
+  auto first = plan_part_as_asked(part, machine, process, options, memo);
   if (options.plan.layers != LayerChoice::kAuto || !first) return first;
   const std::string turned = turned_layers(first.value().plan);
   if (turned.empty()) return first;
@@ -1234,7 +1235,7 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
   planar_options.plan.layers = LayerChoice::kPlanar;
   auto clean = [](const PlanPartResult& r) { return r.check.collisions == 0 && r.check.mid_air_regions.empty(); };
   std::optional<Outdone> outdone;
-  auto planar = plan_part_as_asked(part, machine, process, planar_options,
+  auto planar = plan_part_as_asked(part, machine, process, planar_options, memo,
                                    clean(first.value()) ? std::optional<double>(first.value().plan.unsupported_area_mm2) : std::nullopt, &outdone);
   if (outdone) {
     const Plan& kept = first.value().plan;

@@ -207,5 +207,24 @@ TEST(Subdivide, EndingJustOffThePoleAtAnotherAzimuthGoesThroughThePole) {
   EXPECT_LT(norm(forward(m, poses.value().back()).tip_part_mm - q1), 1e-9);
 }
 
+TEST(Subdivide, StartingATenthOfADegreeOffThePoleOnTheFarSideGoesThroughThePole) {
+  // Regression (two_branches, --layers tilted --strategy single, exit 4): a move from an axis
+  // 0.09° off the vertical at azimuth 180° to one tilted 60° at azimuth 6°. The arc passes the
+  // pole far nearer than its start, where C swings half a turn in a piece shorter than 1/65536 of
+  // the move: 0.0084 mm off. Ends within 1° of the pole were never sent through it. Now the tool
+  // goes upright, C turns in place, then it tilts; the same the other way, and at other azimuths.
+  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC}) {
+    const MachineConfig m = machine(kind);
+    for (const double az : {6.0, 40.0, 150.0}) {
+      for (const double off_deg : {0.02, 0.09, 0.5}) {
+        SCOPED_TRACE(::testing::Message() << "azimuth " << az << " off " << off_deg);
+        const Vec3 p0{18.1213, -0.9754, 65.3928}, p1{24.8437, 0.8033, 63.1825};
+        EXPECT_GE(check(m, p0, tilted(off_deg, 180.0), p1, tilted(60.0, az), 0.008), 1u);
+        EXPECT_GE(check(m, p1, tilted(60.0, az), p0, tilted(off_deg, 180.0), 0.008), 1u);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace polyaxis::machine
