@@ -106,6 +106,12 @@ class PartMemo {
     return *entry->axis;
   }
 
+  // The part's trunk splits (detail::trunk_splits) for beads of BEAD_MM, the first call's bead.
+  const std::vector<detail::TrunkSplit>& trunk_splits(double bead_mm) {
+    std::call_once(splits_once_, [&] { splits_ = detail::trunk_splits(part_, bead_mm); });
+    return splits_;
+  }
+
  private:
   struct AxisEntry {
     std::once_flag once;
@@ -118,6 +124,8 @@ class PartMemo {
   std::optional<core::Result<const mesh::RepairedMesh*>> solid_;
   std::mutex mutex_;
   std::map<std::array<double, 3>, std::shared_ptr<AxisEntry>> axes_;
+  std::once_flag splits_once_;
+  std::vector<detail::TrunkSplit> splits_;
 };
 
 // STOP as plan_decomposed's.
@@ -685,13 +693,13 @@ core::Result<Candidate> plan_on_trunk(const mesh::RepairedMesh& part, const mach
 // CHOSEN (auto's choice, WHY its reasons) or, when it is not support-free and the layers are
 // automatic, the part split into a trunk and branches (detail::trunk_splits) when that does better.
 core::Result<Candidate> with_trunk_splits(core::Result<Candidate> chosen, const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                          const process::ProcessConfig& process, const PlanPartOptions& o, std::string& why) {
+                                          const process::ProcessConfig& process, const PlanPartOptions& o, PartMemo& memo, std::string& why) {
   if (!chosen || chosen.value().plan.unsupported_area_mm2 == 0.0 || o.plan.layers != LayerChoice::kAuto ||
       !machine::has_rotary_axes(machine.kind)) {
     return chosen;
   }
   std::vector<std::string> tried;
-  for (const detail::TrunkSplit& split : detail::trunk_splits(part, process.bead_width_mm)) {
+  for (const detail::TrunkSplit& split : memo.trunk_splits(process.bead_width_mm)) {
     if (!split.refused.empty()) {
       tried.push_back(fmt::format("{} on the trunk: {}", split.label, split.refused));
       continue;
@@ -740,7 +748,7 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
   // Auto: one direction; then the decomposition rooted as asked, at the lowest point; then with the
   // part turned over, one direction and the decomposition; the best that succeeds, taken in that
   // order up to the first that is support-free.
-  return with_trunk_splits(choose_auto(part, machine, process, o, memo, why), part, machine, process, o, why);
+  return with_trunk_splits(choose_auto(part, machine, process, o, memo, why), part, machine, process, o, memo, why);
 }
 
 // The program of a chosen plan: G-code, its simulation against the plan and its verification
@@ -837,10 +845,11 @@ std::optional<PlanPartResult> clean_program(core::Result<Candidate> candidate, S
 // with its label; for a decomposition that failed read-back where one direction overhangs. None
 // unless the layers are automatic.
 std::optional<std::pair<PlanPartResult, std::string>> clean_on_trunk(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                                                     const process::ProcessConfig& process, const PlanPartOptions& options) {
+                                                                     const process::ProcessConfig& process, const PlanPartOptions& options,
+                                                                     PartMemo& memo) {
   if (options.plan.layers != LayerChoice::kAuto || !machine::has_rotary_axes(machine.kind)) return std::nullopt;
   std::optional<std::pair<PlanPartResult, std::string>> best;
-  for (const detail::TrunkSplit& split : detail::trunk_splits(part, process.bead_width_mm)) {
+  for (const detail::TrunkSplit& split : memo.trunk_splits(process.bead_width_mm)) {
     if (!split.refused.empty()) continue;
     std::string trunk_why;
     auto clean = clean_program(plan_on_trunk(part, machine, process, options, split, trunk_why), Strategy::kDecompose, machine, process, options);
@@ -1194,7 +1203,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     auto& clean = single.get();
     if (!clean || clean->first.plan.unsupported_area_mm2 > 0.0) {
       // Where one direction overhangs, the trunk and its branches may not.
-      if (auto trunk = clean_on_trunk(part, machine, process, options); trunk && (!clean || better(trunk->first.plan, clean->first.plan))) {
+      if (auto trunk = clean_on_trunk(part, machine, process, options, memo); trunk && (!clean || better(trunk->first.plan, clean->first.plan))) {
         clean.emplace(std::move(trunk->first), std::move(trunk->second));
       }
     }
