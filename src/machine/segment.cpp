@@ -23,6 +23,9 @@ constexpr double kLeavePoleTilts = 16.0;
 // follow: a move ending (or starting) there goes through the pole. The tip turns less than
 // 0.0001 mm per mm from the C axis when C swings there.
 constexpr double kAlmostPoleRad = 1e-4;
+// Two axes whose azimuths differ by less than this (radians) lean the same way: C need not turn
+// between them.
+constexpr double kSameAzimuthRad = 1e-3;
 
 Vec3 lerp(Vec3 a, Vec3 b, double s) { return a + (b - a) * s; }
 
@@ -173,6 +176,11 @@ core::Result<std::vector<MachinePose>> subdivide(const MachineConfig& machine, V
       auto almost = [](double e) { return e >= kSingularTiltRad && e < kAlmostPoleRad; };
       const bool split_at_end = almost(e1) && e0 >= kSingularTiltRad, split_at_start = almost(e0) && e1 >= kSingularTiltRad;
       if (!split_at_end && !split_at_start) continue;
+      // Ends leaning the same way need no other C: the move is made as it is (a tilted layer
+      // whose normal is 0.0057° off the vertical went through the pole at every point, turning in
+      // place each time, and each turn stopped the process).
+      const double turn = std::remainder(std::atan2(t1.y, t1.x) - std::atan2(t0.y, t0.x), 2.0 * std::numbers::pi);
+      if (std::abs(turn) < kSameAzimuthRad) continue;
       const Vec3 pm = split_at_end ? p1 : p0;
       auto first = subdivide(machine, p0, t0, pm, pole, start, chordal_mm);
       if (!first) return first.error();

@@ -207,6 +207,31 @@ TEST(Subdivide, EndingJustOffThePoleAtAnotherAzimuthGoesThroughThePole) {
   EXPECT_LT(norm(forward(m, poses.value().back()).tip_part_mm - q1), 1e-9);
 }
 
+TEST(Subdivide, AMoveAlongALayerJustOffThePoleKeepsItsTilt) {
+  // Regression (two_branches at 97.8k triangles, --layers tilted --strategy single): a layer whose
+  // normal is 0.0057° (0.99e-4 rad) off the vertical. Every move along it went through the pole,
+  // upright and back, the tip turning in place at each point: 20 885 process stops. Between two
+  // axes that lean the same way the move keeps the tilt and C; one that leans elsewhere still goes
+  // through the pole.
+  for (const Kinematics kind : {Kinematics::kTableTiltA_RotaryC, Kinematics::kTableTiltB_RotaryC}) {
+    const MachineConfig m = machine(kind);
+    const Vec3 p0{2.156, -3.6481, 42.7584}, p1{2.2719, -3.5204, 42.7584};
+    for (const double az : {0.0, 90.0, 217.0}) {
+      SCOPED_TRACE(::testing::Message() << "azimuth " << az);
+      const Vec3 t = tilted(0.99e-4 / kDeg, az);
+      auto start = inverse(m, p0, t, nullptr);
+      ASSERT_TRUE(start.ok());
+      auto poses = subdivide(m, p0, t, p1, t, start.value(), 0.008);
+      ASSERT_TRUE(poses.ok()) << poses.error().message;
+      for (const MachinePose& p : poses.value()) {
+        EXPECT_NEAR(p.a_or_b_deg, start.value().a_or_b_deg, 1e-9);
+        EXPECT_NEAR(p.c_deg, start.value().c_deg, 1e-9);
+      }
+      EXPECT_GE(check(m, p0, t, p1, tilted(0.99e-4 / kDeg, az + 120.0), 0.008), 1u);
+    }
+  }
+}
+
 TEST(Subdivide, StartingATenthOfADegreeOffThePoleOnTheFarSideGoesThroughThePole) {
   // Regression (two_branches, --layers tilted --strategy single, exit 4): a move from an axis
   // 0.09° off the vertical at azimuth 180° to one tilted 60° at azimuth 6°. The arc passes the
