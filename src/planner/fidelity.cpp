@@ -102,6 +102,7 @@ void measure_fidelity(Plan& plan, double part_volume_mm3, double conformal_edge_
     std::vector<double> field(c.fine.vertices.size());
     tbb::parallel_for(std::size_t{0}, field.size(), [&](std::size_t v) { field[v] = base->nearest(c.fine.vertices[v]).signed_mm; });
     c.field = std::make_unique<slicing::SectionContext>(c.fine, plan.placed_regions[i].direction, std::move(field));
+    c.field->set_field_at([base](Vec3 p) { return base->nearest(p).signed_mm; });  // as the slicer's contours
   }
   std::vector<LayerFidelity> per(layers.size());
   tbb::enumerable_thread_specific<slicing::SectionScratch> scratch;

@@ -180,7 +180,8 @@ core::Result<SliceResult> slice_conformal(const mesh::Mesh& region, const SliceO
   if (n_real > kMaxLayers) return core::make_error(core::ErrorCode::kUsage, fmt::format("conformal layers: {:.0f} layers; at most {:.0f}", n_real, kMaxLayers));
   const auto n = static_cast<std::size_t>(n_real);
   const double step = span / n_real;
-  const SectionContext ctx(fine, d, std::move(field));
+  SectionContext ctx(fine, d, std::move(field));
+  ctx.set_field_at([&base](Vec3 p) { return base.nearest(p).signed_mm; });
   const Frame plane = plane_frame(d, 0.0);
 
   SliceResult result;

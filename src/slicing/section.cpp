@@ -63,6 +63,33 @@ Segment segment_of(const SectionContext& ctx, std::uint32_t f, double h) {
   return s;
 }
 
+// Where FIELD_AT meets LEVEL on the edge PA → PB, as a parameter in (0, 1): regula falsi
+// (Illinois) from the linear estimate T, with RA and RB the field less the level at the ends
+// (opposite signs). Stops within kExactCrossingMm of the level or after kExactCrossingSteps.
+constexpr double kExactCrossingMm = 1e-5;
+constexpr int kExactCrossingSteps = 12;
+
+double exact_crossing(const std::function<double(Vec3)>& field_at, double level, Vec3 pa, Vec3 pb, double ra, double rb, double t) {
+  double lo = 0.0, hi = 1.0;
+  int kept = 0;  // which end was kept last time: -1 lo, +1 hi
+  for (int it = 0; it < kExactCrossingSteps; ++it) {
+    const double r = field_at(pa + (pb - pa) * t) - level;
+    if (std::fabs(r) <= kExactCrossingMm) break;
+    if ((r < 0.0) == (ra < 0.0)) {
+      lo = t, ra = r;
+      if (kept == -1) rb *= 0.5;
+      kept = -1;
+    } else {
+      hi = t, rb = r;
+      if (kept == 1) ra *= 0.5;
+      kept = 1;
+    }
+    t = lo + (hi - lo) * ra / (ra - rb);
+    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+  }
+  return t;
+}
+
 // The crossing of half-edge H with the plane, in (u, v) units. Built from the edge's ends in
 // vertex-index order, so both faces of the edge get the same point bit for bit.
 geom2d::Point crossing(const SectionContext& ctx, const Frame& frame, std::uint32_t h, double plane) {
@@ -70,8 +97,9 @@ geom2d::Point crossing(const SectionContext& ctx, const Frame& frame, std::uint3
   std::uint32_t a = mesh::half_edge_from(m, h), b = mesh::half_edge_to(m, h);
   if (a > b) std::swap(a, b);
   const double sa = ctx.height(a), sb = ctx.height(b);
-  const double t = (plane - sa) / (sb - sa);  // sa != sb: the ends lie on opposite sides
+  double t = (plane - sa) / (sb - sa);  // sa != sb: the ends lie on opposite sides
   const Vec3 pa = m.vertices[a], pb = m.vertices[b];
+  if (ctx.field_at()) t = exact_crossing(ctx.field_at(), plane, pa, pb, sa - plane, sb - plane, t);
   const Vec3 p = pa + (pb - pa) * t - frame.origin;
   return {geom2d::to_units(core::dot(p, frame.u)), geom2d::to_units(core::dot(p, frame.v))};
 }

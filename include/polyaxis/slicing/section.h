@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -38,6 +39,16 @@ class SectionContext {
   // DIRECTION onto the frame's plane (conformal layers, conformal.h). Outer loops run
   // counter-clockwise about DIRECTION where the field grows along it.
   SectionContext(const mesh::Mesh& mesh, Vec3 direction, std::vector<double> field, const mesh::EdgeTopology* topology = nullptr);
+  // The field's value at any point of the mesh, for a field that is not linear over a face (a
+  // distance): a crossing is then moved along its edge, from the linear estimate, to where
+  // FIELD_AT meets the level (regula falsi between the edge's ends, whose field values bracket
+  // it). The sides of the vertices, and with them the topology, do not change; the contour runs
+  // on the field's true level set instead of a sawtooth about it where the level set meets the
+  // surface at a grazing angle (a linear error of e mm in the field moves the crossing by
+  // e / |the field's gradient along the surface|). FIELD_AT must be safe to call from several
+  // threads.
+  void set_field_at(std::function<double(Vec3)> field_at) { field_at_ = std::move(field_at); }
+  const std::function<double(Vec3)>& field_at() const { return field_at_; }
 
   const mesh::Mesh& mesh() const { return mesh_; }
   const mesh::EdgeTopology& topology() const { return topology_ ? *topology_ : own_topology_; }
@@ -61,6 +72,7 @@ class SectionContext {
   mesh::EdgeTopology own_topology_;
   Vec3 d_;
   std::vector<double> height_;
+  std::function<double(Vec3)> field_at_;
   double min_ = 0.0, max_ = 0.0;
 };
 

@@ -5,13 +5,18 @@
 // where planar layers overhang. A level that folds over along the direction is refused.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/mesh/distance.h"
 #include "polyaxis/mesh/repair.h"
 #include "polyaxis/slicing/conformal.h"
+#include "polyaxis/slicing/section.h"
 #include "polyaxis/slicing/slice.h"
 #include "support/meshes.h"
 #include "support/repaired.h"
@@ -82,6 +87,56 @@ TEST(Conformal, LayersAtEvenDistancesFromASphereAlongItsNormal) {
     auto p = slice(region, planar);
     ASSERT_TRUE(p.ok());
     EXPECT_GT(overhang_estimate_mm2(p.value(), 30.0, 0.0), 10.0);
+  }
+}
+
+// A level that meets the surface at a grazing angle: the top of a box over a sphere, where the
+// distance from the sphere grows slowly along the face (its gradient along the face is 0.13–0.28
+// at these levels). A crossing interpolated linearly between an edge's ends
+// lands up to e / 0.17 off the level set for a field e mm off linear: the tb100k branch's end
+// face carried a 0.1–0.2 mm sawtooth that way, and the paths offset from its notches left a bare
+// strip under the next layer. Each crossing is now on the field's level.
+TEST(Conformal, ContoursLieOnTheLevelWhereItMeetsTheSurfaceAtAGrazingAngle) {
+  for (const double radius : {30.0, 18.0}) {
+    for (const double edge : {1.0, 2.5}) {
+      SCOPED_TRACE(fmt::format("sphere r {}, edges {} mm", radius, edge));
+      const Vec3 centre{0, 0, -radius};
+      const mesh::SurfaceDistance base(repaired(test::shell_patch(centre, radius * 0.5, radius, 89, 96, 36)));
+      const mesh::Mesh box = repaired(test::box({-10, -9, 0}, {9, 10, 4}));
+      const std::optional<mesh::Mesh> fine = refined_for_levels(box, base, edge);
+      ASSERT_TRUE(fine);
+      std::vector<double> field(fine->vertices.size());
+      for (std::size_t i = 0; i < field.size(); ++i) field[i] = base.nearest(fine->vertices[i]).signed_mm;
+      SectionContext linear(*fine, {0, 0, 1}, field), exact(*fine, {0, 0, 1}, field);
+      exact.set_field_at([&base](Vec3 p) { return base.nearest(p).signed_mm; });
+      const Frame plane = plane_frame({0, 0, 1}, 0.0);
+      std::vector<std::uint32_t> all(fine->triangles.size());
+      for (std::uint32_t f = 0; f < all.size(); ++f) all[f] = f;
+      SectionScratch scratch;
+      for (const double above_top : {0.3, 0.6, 0.9}) {
+        const double level = base.nearest({0, 0, 4}).signed_mm + above_top;
+        // The largest miss of the level by a section's corners on the box's top face.
+        auto worst = [&](const SectionContext& ctx, int& on_top) {
+          double miss = 0.0;
+          on_top = 0;
+          for (const geom2d::Ring& ring : geom2d::rings_of(section(ctx, level, plane, all, scratch).polygons)) {
+            for (const geom2d::Point& q : ring) {
+              const Vec3 p = plane.to_world(geom2d::to_mm(q.x), geom2d::to_mm(q.y)) + Vec3{0, 0, 4};
+              if (std::fabs(p.x) > 8.8 || std::fabs(p.y) > 8.8) continue;  // on the box's sides
+              miss = std::max(miss, std::fabs(base.nearest(p).signed_mm - level)), ++on_top;
+            }
+          }
+          return miss;
+        };
+        int n_exact = 0, n_linear = 0;
+        const double exact_miss = worst(exact, n_exact), linear_miss = worst(linear, n_linear);
+        ASSERT_GE(n_exact, 4);
+        EXPECT_EQ(n_exact, n_linear);  // the same edges are crossed: only where along them moves
+        EXPECT_LT(exact_miss, 1e-4) << "level " << level;
+        // What the linear crossing missed by, and what this test would see without the fix.
+        EXPECT_GT(linear_miss, 10.0 * exact_miss + 1e-4) << "level " << level;
+      }
+    }
   }
 }
 
