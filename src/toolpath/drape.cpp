@@ -39,14 +39,12 @@ std::vector<PathPoint> densified(const std::vector<PathPoint>& points, double st
 SurfaceWarp::SurfaceWarp(const mesh::SurfaceDistance& base, const slicing::Layer& layer, double step_mm) : step_(step_mm) {
   const geom2d::Centroid c = geom2d::centroid(layer.polygons);
   cu_ = c.x, cv_ = c.y;
-  double reach = 0.0;
-  for (const geom2d::Ring& ring : geom2d::rings_of(layer.polygons)) {
-    for (const geom2d::Point& q : ring) reach = std::max(reach, std::hypot(geom2d::to_mm(q.x) - cu_, geom2d::to_mm(q.y) - cv_));
-  }
-  const auto samples = static_cast<std::size_t>(std::ceil(reach / step_)) + 2;
+  const std::vector<double> reach = ray_reach(layer.polygons);
   const Vec3 d = layer.frame.d;
-  length_.assign(kWarpRays, std::vector<double>(samples, 0.0));
+  length_.resize(static_cast<std::size_t>(kWarpRays));
   for (int j = 0; j < kWarpRays; ++j) {
+    const auto samples = static_cast<std::size_t>(std::ceil(reach[static_cast<std::size_t>(j)] / step_)) + 2;
+    length_[static_cast<std::size_t>(j)].assign(samples, 0.0);
     const double a = kTwoPi * j / kWarpRays, cu = std::cos(a), cv = std::sin(a);
     double height = NAN, along = 0.0;
     std::optional<mesh::Nearest> near;  // the sample before's: the distance queries start from it
@@ -62,6 +60,37 @@ SurfaceWarp::SurfaceWarp(const mesh::SurfaceDistance& base, const slicing::Layer
       length_[static_cast<std::size_t>(j)][i] = along;
     }
   }
+}
+
+std::vector<double> SurfaceWarp::ray_reach(const std::vector<geom2d::Polygon>& polygons) const {
+  // The farthest point of the section in each sector between two rays, from its edges walked at
+  // half a step; both rays of a sector interpolate there.
+  constexpr auto kRays = static_cast<std::size_t>(kWarpRays);
+  std::vector<double> far(kRays, 0.0);
+  for (const geom2d::Ring& ring : geom2d::rings_of(polygons)) {
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const double u0 = geom2d::to_mm(ring[i].x) - cu_, v0 = geom2d::to_mm(ring[i].y) - cv_;
+      const double u1 = geom2d::to_mm(ring[(i + 1) % ring.size()].x) - cu_, v1 = geom2d::to_mm(ring[(i + 1) % ring.size()].y) - cv_;
+      const int pieces = std::max(1, static_cast<int>(std::ceil(std::hypot(u1 - u0, v1 - v0) / (0.5 * step_))));
+      for (int k = 0; k < pieces; ++k) {
+        const double t = static_cast<double>(k) / pieces, u = u0 + (u1 - u0) * t, v = v0 + (v1 - v0) * t;
+        double x = std::atan2(v, u) / kTwoPi * kWarpRays;
+        x -= std::floor(x / kWarpRays) * kWarpRays;
+        const auto j0 = static_cast<std::size_t>(x) % kRays, j1 = (j0 + 1) % kRays;
+        const double r = std::hypot(u, v);
+        far[j0] = std::max(far[j0], r), far[j1] = std::max(far[j1], r);
+      }
+    }
+  }
+  // Between two samples an edge may cross a sector narrower than half a step (within
+  // kWarpNarrowSteps steps of the centre) or swell by a quarter step: each ray reaches its
+  // neighbours' farthest, kWarpMarginSteps steps more, and no less than that narrow disc.
+  std::vector<double> reach(kRays);
+  for (std::size_t j = 0; j < kRays; ++j) {
+    const double widest = std::max({far[(j + kRays - 1) % kRays], far[j], far[(j + 1) % kRays]});
+    reach[j] = std::max(widest + kWarpMarginSteps * step_, kWarpNarrowSteps * step_);
+  }
+  return reach;
 }
 
 double SurfaceWarp::radius_at(double r, double angle) const {
