@@ -48,10 +48,11 @@ inline std::vector<std::array<double, 6>> our_positions(const std::string& gcode
   std::istringstream in(gcode);
   std::string line;
   const std::string letters = "XYZABC";
+  static const std::regex kMove("\\bG[01]\\b|^G[01] |^G0|^G1");  // built once: a million-line program is read here
   while (std::getline(in, line)) {
     const auto paren = line.find('(');
     if (paren != std::string::npos) line = line.substr(0, paren);
-    if (!std::regex_search(line, std::regex("\\bG[01]\\b|^G[01] |^G0|^G1"))) continue;
+    if (!std::regex_search(line, kMove)) continue;
     bool moved = false;
     for (std::size_t i = 0; i < 6; ++i) {
       const auto at = line.find(letters[i]);

@@ -146,17 +146,21 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
   // the cone's or the cylinder's side or end.
   const double grow = 0.5 * proc.bead_width_mm, ignore = 1.5 * proc.bead_width_mm;
   const double cos_th = std::cos(m.nozzle.tip_half_angle_deg * kPi / 180.0), sin_th = std::sin(m.nozzle.tip_half_angle_deg * kPi / 180.0);
-  auto in_head = [&](core::Vec3 t, core::Vec3 a, core::Vec3 q) {
+  // Q within GROWN of the cone or the cylinder (each bound is 1-Lipschitz in Q, so a ball of radius
+  // s round Q can reach them only where Q is within GROWN + s).
+  auto near_head = [&](core::Vec3 t, core::Vec3 a, core::Vec3 q, double grown) {
     const core::Vec3 d = q - t;
     const double h = core::dot(d, a);
-    if (h < -grow || h > z1 + H + grow || core::norm(d) <= ignore) return false;
+    if (h < -grown || h > z1 + H + grown) return false;
     const double r = core::norm(d - a * h);
-    const bool in_cone = h <= z1 + grow && r * cos_th - h * sin_th <= grow;
-    const bool in_cylinder = h >= z1 - grow && h <= z1 + H + grow && r <= R + grow;
+    const bool in_cone = h <= z1 + grown && r * cos_th - h * sin_th <= grown;
+    const bool in_cylinder = h >= z1 - grown && r <= R + grown;
     return in_cone || in_cylinder;
   };
-  // HEAD_PREBUILT in cubic cells: a check visits only the cells whose centre lies within the head's
-  // reach (its radius grown, plus half a cell's diagonal) of the segment along its axis.
+  auto in_head = [&](core::Vec3 t, core::Vec3 a, core::Vec3 q) { return core::norm(q - t) > ignore && near_head(t, a, q, grow); };
+  // HEAD_PREBUILT in cubic cells: a check visits only the cells whose centre lies within half a
+  // cell's diagonal of the grown head (the cone near the tip, where the deposit lies on the
+  // prebuilt part, is far narrower than the cylinder above it).
   const double prebuilt_cell = 4.0;
   std::map<std::array<long, 3>, std::vector<core::Vec3>> prebuilt_cells;
   for (const core::Vec3& q : head_prebuilt) {
@@ -168,11 +172,10 @@ inline ReadBack read_back(const machine::MachineConfig& m, const process::Proces
     auto mid = [&](long i) { return (static_cast<double>(i) + 0.5) * prebuilt_cell; };
     prebuilt_by_cell.emplace_back(core::Vec3{mid(c[0]), mid(c[1]), mid(c[2])}, &pts);
   }
-  const double head_reach = std::max(R + grow, (z1 + grow) * sin_th / cos_th + grow / cos_th) + 0.5 * std::sqrt(3.0) * prebuilt_cell;
+  const double cell_grow = grow + 0.5 * std::sqrt(3.0) * prebuilt_cell;
   auto prebuilt_in_head = [&](core::Vec3 t, core::Vec3 a) {
     for (const auto& [centre, pts] : prebuilt_by_cell) {
-      const double h = std::clamp(core::dot(centre - t, a), -grow, z1 + H + grow);
-      if (core::norm(centre - (t + a * h)) > head_reach) continue;
+      if (!near_head(t, a, centre, cell_grow)) continue;
       for (const core::Vec3& q : *pts) {
         if (in_head(t, a, q)) return true;
       }
