@@ -18,7 +18,9 @@
 //    round, has passed their distance value, so the part is peeled in order of F (Pudney 1998,
 //    distance-ordered homotopic thinning) and the curve stays centred on the ridges. A voxel with
 //    one neighbour is kept (a curve end) only if it is a ridge voxel, so voxelisation bumps do not
-//    grow spurs.
+//    grow spurs. In the sequential re-check a ridge voxel that the sub-iteration's own removals
+//    have left at a curve's end (one neighbour, or two touching) waits for the next sub-iteration,
+//    so a ridge two voxels thick is not peeled from its end in one pass.
 // 5. Graph: voxels with other than two neighbours are node voxels, clustered by 26-adjacency; the
 //    chains of two-neighbour voxels between them are edges. Spurs whose end ball reaches less than
 //    spur_factor × the branch radius beyond the branch ball are pruned (least significant first;
@@ -209,6 +211,19 @@ struct Neighbourhood {
     return components(bg, adj6, n6) == 1;
   }
 
+  // One neighbour, or two that touch each other: the end of a curve, also of a curve two voxels
+  // thick once one side of it has gone.
+  bool curve_end(std::uint32_t fg) const {
+    fg &= ~(1u << kCentre);
+    const int count = __builtin_popcount(fg);
+    if (count == 1) return true;
+    if (count != 2) return false;
+    const int a = __builtin_ctz(fg);
+    const int b = 31 - __builtin_clz(fg);
+    const auto& adj = adj26[static_cast<std::size_t>(a)];
+    return std::find(adj.begin(), adj.end(), b) != adj.end();
+  }
+
   // Components of SET under ADJ; with ANCHOR non-zero, only those containing an ANCHOR position.
   static int components(std::uint32_t set, const std::array<std::vector<int>, 27>& adj, std::uint32_t anchor) {
     int count = 0;
@@ -298,8 +313,8 @@ void thin(const Grid& g, const DistanceField& field, std::vector<std::uint8_t>& 
     return __builtin_popcount(mask) == 1 && (state[c] & kRidge);
   };
 
-  std::vector<std::uint8_t> flag;
-  std::vector<std::size_t> candidates;
+  std::vector<std::uint32_t> flag;  // the neighbour mask a candidate was flagged with; 0: not one
+  std::vector<std::pair<std::size_t, std::uint32_t>> candidates;
   for (int round = 1;; ++round) {
     // Eligible once the front (one voxel per round, starting at the outermost layer F = h/2) has
     // passed F; past the deepest voxel every voxel is eligible and rounds run until nothing changes.
@@ -314,17 +329,21 @@ void thin(const Grid& g, const DistanceField& field, std::vector<std::uint8_t>& 
           if (!(state[c] & kForeground) || field.values[c] > gate) continue;
           if (state[g.at(c, dir)] & kForeground) continue;
           const std::uint32_t m = neighbour_mask(g, state, c);
-          if (!keep_as_end(c, m) && nb.simple(m)) flag[i] = 1;
+          if (!keep_as_end(c, m) && nb.simple(m)) flag[i] = m;
         }
       });
       candidates.clear();
       for (std::size_t i = 0; i < border.size(); ++i) {
-        if (flag[i]) candidates.push_back(border[i]);
+        if (flag[i]) candidates.emplace_back(border[i], flag[i]);
       }
       std::sort(candidates.begin(), candidates.end());
-      for (const std::size_t c : candidates) {
+      for (const auto& [c, flagged] : candidates) {
         const std::uint32_t m = neighbour_mask(g, state, c);
         if (keep_as_end(c, m) || !nb.simple(m)) continue;
+        // A ridge voxel left at a curve's end by this sub-iteration's own removals waits for the
+        // next one. Else a curve two voxels thick, its one side taken, is peeled from its end
+        // voxel after voxel within one sub-iteration (a column under a fork vanished so).
+        if ((state[c] & kRidge) && m != flagged && nb.curve_end(m)) continue;
         state[c] = static_cast<std::uint8_t>(state[c] & ~kForeground);
         ++removed_in_round;
         for (const int a : kFaceDirections) {

@@ -2,6 +2,7 @@
 // skeleton vectors on shapes whose medial axis is known, determinism across thread counts.
 #include "polyaxis/analysis/skeleton.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -54,6 +55,15 @@ io::RawMesh cylinder(double r, double z0, double z1, std::uint32_t n) {
     m.triangles.push_back({bottom, b, a});
     m.triangles.push_back({top, a + 1, b + 1});
   }
+  return m;
+}
+
+// CYLINDER(r, 0, length, n) turned by TILT about Y and moved to BASE: a rod leaving BASE along
+// (sin tilt, 0, cos tilt).
+io::RawMesh rod(Vec3 base, double r, double length, double tilt_rad, std::uint32_t n) {
+  io::RawMesh m = cylinder(r, 0.0, length, n);
+  const double c = std::cos(tilt_rad), s = std::sin(tilt_rad);
+  for (Vec3& p : m.points) p = base + Vec3{c * p.x + s * p.z, p.y, -s * p.x + c * p.z};
   return m;
 }
 
@@ -208,6 +218,28 @@ TEST(Skeleton, CylWalls5RadiatesAlongTheWalls) {
       if (std::hypot(start.x, start.y) < 6.0 && angle_between(e.direction, radial) <= 15 * kDeg) found = true;
     }
     EXPECT_TRUE(found) << "wall at " << 18 + 72 * i << "°";
+  }
+}
+
+TEST(Skeleton, YForkKeepsItsColumnAtEveryVoxelSize) {
+  // A column of radius 6.5 and height 30 forking into two rods at ±35°. At some voxel sizes the
+  // column's ridge is two voxels across; a sub-iteration that takes one side of it must not then
+  // peel the other side from its end up into the fork.
+  const double column_mm = 30.0;
+  for (const double r : {5.0, 6.5}) {
+    const mesh::Mesh m = as_mesh(test::join(test::join(cylinder(r, 0.0, column_mm, 96), rod({0, 0, column_mm - r}, r, 40.0, 35 * kDeg, 96)),
+                                            rod({0, 0, column_mm - r}, r, 40.0, -35 * kDeg, 96)));
+    for (const double voxel : {0.9, 1.0, 1.1, 1.18, 1.25, 1.4}) {
+      SkeletonOptions o;
+      o.field.voxel_mm = voxel;
+      auto s = skeleton(m, o);
+      ASSERT_TRUE(s.ok()) << s.error().message;
+      const SkeletonGraph& g = s.value();
+      SCOPED_TRACE(fmt::format("r {} voxel {}\n{}", r, voxel, describe(g)));
+      if (std::getenv("POLYAXIS_SKELETON_DUMP") != nullptr) std::printf("%s", describe(g).c_str());
+      EXPECT_EQ(count_kind(g, SkeletonNodeKind::kBranch), 1u);
+      EXPECT_TRUE(has_edge_along(g, {0, 0, 1}, 15 * kDeg, 0.6 * column_mm - r));
+    }
   }
 }
 
