@@ -7,9 +7,13 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <unordered_map>
 
 #include "polyaxis/core/progress.h"
 #include "polyaxis/geom2d/clip.h"
@@ -25,6 +29,14 @@ constexpr int kLiftIterations = 80;
 // this many cells over the section's box.
 constexpr double kSpanGridCells = 400.0;
 constexpr double kSpanGridMinMm = 0.5;  // and cells no smaller than this
+
+struct PointBitsHash {
+  std::size_t operator()(const std::array<std::uint64_t, 3>& k) const {
+    std::uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (const std::uint64_t v : k) h = (h ^ v) * 0xff51afd7ed558ccdull, h ^= h >> 33;
+    return static_cast<std::size_t>(h);
+  }
+};
 
 }  // namespace
 
@@ -59,10 +71,18 @@ std::optional<Lifted> lift(const mesh::SurfaceDistance& base, const Layer& layer
 
 std::optional<mesh::Mesh> refined_for_levels(const mesh::Mesh& mesh, const mesh::SurfaceDistance& base, double min_edge_mm) {
   const double min2 = min_edge_mm * min_edge_mm;
+  // The distance at each point asked, by its bits: refine asks each edge from both its faces and
+  // again each time a face returns to its queue, and a split edge's midpoint becomes a vertex.
+  std::unordered_map<std::array<std::uint64_t, 3>, double, PointBitsHash> known;
+  auto distance = [&](Vec3 p) {
+    const std::array<std::uint64_t, 3> key{std::bit_cast<std::uint64_t>(p.x), std::bit_cast<std::uint64_t>(p.y), std::bit_cast<std::uint64_t>(p.z)};
+    auto [it, fresh] = known.try_emplace(key, 0.0);
+    if (fresh) it->second = base.nearest(p).signed_mm;
+    return it->second;
+  };
   auto curved = [&](Vec3 a, Vec3 b) {
     if (core::dot(b - a, b - a) <= min2) return false;
-    const double fa = base.nearest(a).signed_mm, fb = base.nearest(b).signed_mm, fm = base.nearest((a + b) * 0.5).signed_mm;
-    return std::fabs(fm - 0.5 * (fa + fb)) > kFieldToleranceMm;
+    return std::fabs(distance((a + b) * 0.5) - 0.5 * (distance(a) + distance(b))) > kFieldToleranceMm;
   };
   return mesh::refine(mesh, curved, kMaxRefinedFaces);
 }
