@@ -14,6 +14,21 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
 
+// The two rays of the warp either side of the direction at ANGLE (rad), and how far it lies from
+// the first towards the second, in [0, 1).
+struct RaysAbout {
+  std::size_t first = 0, second = 0;
+  double t = 0.0;
+};
+
+RaysAbout rays_about(double angle) {
+  constexpr auto kRays = static_cast<std::size_t>(kWarpRays);
+  double x = angle / kTwoPi * kWarpRays;
+  x -= std::floor(x / kWarpRays) * kWarpRays;
+  const auto j0 = static_cast<std::size_t>(x) % kRays;
+  return {j0, (j0 + 1) % kRays, x - std::floor(x)};
+}
+
 // PATH's points with every move cut into pieces no longer than STEP_MM; a new point takes the
 // deposit flag of the move it lies on.
 std::vector<PathPoint> densified(const std::vector<PathPoint>& points, double step_mm) {
@@ -74,11 +89,9 @@ std::vector<double> SurfaceWarp::ray_reach(const std::vector<geom2d::Polygon>& p
       const int pieces = std::max(1, static_cast<int>(std::ceil(std::hypot(u1 - u0, v1 - v0) / (0.5 * step_))));
       for (int k = 0; k < pieces; ++k) {
         const double t = static_cast<double>(k) / pieces, u = u0 + (u1 - u0) * t, v = v0 + (v1 - v0) * t;
-        double x = std::atan2(v, u) / kTwoPi * kWarpRays;
-        x -= std::floor(x / kWarpRays) * kWarpRays;
-        const auto j0 = static_cast<std::size_t>(x) % kRays, j1 = (j0 + 1) % kRays;
+        const RaysAbout rays = rays_about(std::atan2(v, u));
         const double r = std::hypot(u, v);
-        far[j0] = std::max(far[j0], r), far[j1] = std::max(far[j1], r);
+        far[rays.first] = std::max(far[rays.first], r), far[rays.second] = std::max(far[rays.second], r);
       }
     }
   }
@@ -94,10 +107,7 @@ std::vector<double> SurfaceWarp::ray_reach(const std::vector<geom2d::Polygon>& p
 }
 
 double SurfaceWarp::radius_at(double r, double angle) const {
-  double x = angle / kTwoPi * kWarpRays;
-  x -= std::floor(x / kWarpRays) * kWarpRays;
-  const auto j0 = static_cast<std::size_t>(x) % kWarpRays, j1 = (j0 + 1) % kWarpRays;
-  const double t = x - std::floor(x);
+  const RaysAbout rays = rays_about(angle);
   auto along = [&](const std::vector<double>& l) {
     const double i = r / step_;
     const auto last = l.size() - 1;
@@ -105,7 +115,7 @@ double SurfaceWarp::radius_at(double r, double angle) const {
     const auto i0 = static_cast<std::size_t>(i);
     return l[i0] + (l[i0 + 1] - l[i0]) * (i - static_cast<double>(i0));
   };
-  return along(length_[j0]) * (1.0 - t) + along(length_[j1]) * t;
+  return along(length_[rays.first]) * (1.0 - rays.t) + along(length_[rays.second]) * rays.t;
 }
 
 std::array<double, 2> SurfaceWarp::forward(double u, double v) const {
