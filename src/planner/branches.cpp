@@ -266,22 +266,25 @@ std::vector<TrunkSplit> trunk_splits(const mesh::RepairedMesh& part, double bead
   auto continuation = [&](std::uint32_t node) { return carried[node]; };
   auto continues = [&](std::size_t k) { return carried[g.edges[k].from] == k; };
   // Branch points in order from the root (edges run away from it, breadth-first).
-  for (std::uint32_t node = 0; node < g.nodes.size() && out.size() < kMaxTrunkSplits; ++node) {
+  std::size_t points_tried = 0;
+  for (std::uint32_t node = 0; node < g.nodes.size() && points_tried < kMaxTrunkSplits; ++node) {
     if (!carried[node]) continue;
+    ++points_tried;
     const std::size_t on = *carried[node];
     std::vector<std::size_t> children;
     for (std::size_t k = 0; k < g.edges.size(); ++k) {
       if (g.edges[k].from == node && g.edges[k].to != node) children.push_back(k);
     }
-    // The branches tried: every child but the one carrying the trunk on; and with three or more
-    // children (a column with arms all round), every child, the trunk ending at the node.
+    // The branches tried: every child but the one carrying the trunk on; then every child, the
+    // trunk ending at the node (a column with arms all round; a Y fork, whose arms both leave the
+    // column at an angle and stand close: grown one on the other, the head building the second
+    // strikes the first).
     std::vector<std::vector<std::size_t>> tries(1);
     for (const std::size_t c : children) {
       if (c != on) tries.front().push_back(c);
     }
-    if (children.size() >= 3) tries.push_back(children);
+    tries.push_back(children);
     for (const std::vector<std::size_t>& sides : tries) {
-      if (out.size() >= kMaxTrunkSplits) break;
       // The side children and all that grows from them.
       std::set<std::uint32_t> beyond;
       std::set<std::size_t> branch(sides.begin(), sides.end());

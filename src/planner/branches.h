@@ -42,7 +42,7 @@ inline constexpr double kRoundShare = 0.15;
 inline constexpr double kRoundHugShare = 0.8;
 // The run past a free end bends no tighter than this many tube radii.
 inline constexpr double kLeastBendRadii = 2.0;
-// Branch points at most tried, nearest the skeleton's root first.
+// Branch points at most tried, nearest the skeleton's root first (two splits at each).
 inline constexpr std::size_t kMaxTrunkSplits = 2;
 
 struct TrunkSplit {
@@ -58,10 +58,11 @@ struct TrunkSplit {
 
 // The splits of PART (repaired, one solid) at its skeleton's branch points: at each, the child
 // edge that turns least from the edge into it continues the trunk, and the other children with all
-// that grows from them are the branches (and, at a point of three or more children, all of them,
-// the trunk ending there); the trunk is the part within the tubes around the other edges.
+// that grows from them are the branches, and then all of them, the trunk ending there; the trunk
+// is the part within the tubes around the other edges.
 // BEAD_MM sizes the tubes' margin. A split whose tubes cross themselves, or where the boolean
-// operations fail or leave either side empty, says so in `refused`. At most kMaxTrunkSplits.
+// operations fail or leave either side empty, says so in `refused`. At most kMaxTrunkSplits
+// branch points, two splits each.
 std::vector<TrunkSplit> trunk_splits(const mesh::RepairedMesh& part, double bead_mm);
 
 }  // namespace polyaxis::planner::detail

@@ -1235,11 +1235,14 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
   PartMemo memo(part);
   auto first = plan_part_as_asked(part, machine, process, options, memo);
   if (options.plan.layers != LayerChoice::kAuto || !first) return first;
-  const std::string turned = turned_layers(first.value().plan);
-  if (turned.empty()) return first;
-  // Auto layers took tilted or conformal ones somewhere, judged region by region on the slices alone: the
-  // whole choice on planar layers too, and the better plan as built (read back clean first, then
-  // less unsupported area, fewer regions, fewer reorientations).
+  const std::string turned_or_none = turned_layers(first.value().plan);
+  if (turned_or_none.empty() && first.value().plan.unsupported_area_mm2 == 0.0) return first;
+  // Auto layers took tilted or conformal ones somewhere, judged region by region on the slices alone,
+  // or the plan still overhangs (its choice passed over candidates whose regions took such layers: a
+  // decomposition on planar layers may be support-free where the same regions on tilted ones are
+  // not): the whole choice on planar layers too, and the better plan as built (read back clean first,
+  // then less unsupported area, fewer regions, fewer reorientations).
+  const std::string turned = turned_or_none.empty() ? std::string("automatic") : turned_or_none;
   PlanPartOptions planar_options = options;
   planar_options.plan.layers = LayerChoice::kPlanar;
   auto clean = [](const PlanPartResult& r) { return r.check.collisions == 0 && r.check.mid_air_regions.empty(); };

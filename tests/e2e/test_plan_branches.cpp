@@ -4,7 +4,8 @@
 // read back (support/plan_checks.h): every bead grounded, the head clear, no region in mid-air, the
 // thickness along the tool axis in the process's range, rs274 accepting the program. The parts:
 // two_branches (Ruan Fig. 11) and parts of our own (tests/corpus/branches): a column with three
-// arms round its side, and two_branches at other sizes.
+// arms round its side, a Y fork, a tuning fork, a column with one arm, and two_branches at other
+// sizes.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -66,6 +67,37 @@ TEST(PlanBranches, AColumnWithThreeArmsRoundItsSideGrowsThemOnTheColumn) {
   TempDir dir;
   std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/three_arms.stl", dir.path() / "three_arms.stl");
   expect_grown_on_trunk(dir, "three_arms");
+}
+
+// A Y fork and a tuning fork of our own: both arms leave the column at an angle and stand close.
+// Grown one on the other, the head building the second strikes the first (read back); both grown
+// on the column, the trunk ending at the fork, they are support-free.
+void expect_both_arms_on_the_column(const std::string& name) {
+  TempDir dir;
+  std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/" + name + ".stl", dir.path() / (name + ".stl"));
+  expect_grown_on_trunk(dir, name);
+  const auto report = read_json(dir.path() / "report.json");
+  EXPECT_EQ(report["strategy_reason"].get<std::string>().rfind("the 2 branches leaving", 0), 0u) << report["strategy_reason"];
+  const auto plan = read_json(dir.path() / "plan.json");
+  ASSERT_EQ(plan["regions"].size(), 2u);
+  EXPECT_EQ(plan["regions"][0]["rule"], "trunk");
+}
+
+TEST(PlanBranches, AYForkGrowsBothArmsOnItsColumn) { expect_both_arms_on_the_column("yfork"); }
+
+TEST(PlanBranches, ATuningForkGrowsBothArmsOnItsHandle) { expect_both_arms_on_the_column("tuning_fork"); }
+
+// A column with one arm leaving its side: its trunk splits overhang a little (0.1 mm²), and so does
+// each candidate on the layers auto judged best region by region; the same choice on planar layers
+// holds it with two regions, support-free. Auto compares the two whenever its plan overhangs.
+TEST(PlanBranches, AColumnWithOneArmTakesThePlanarDecompositionThatHoldsIt) {
+  TempDir dir;
+  std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/side_arm.stl", dir.path() / "side_arm.stl");
+  const auto r = run_cli(fmt::format("plan '{}' --no-html -o '{}'", (dir.path() / "side_arm.stl").string(), dir.path().string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_json(dir.path() / "report.json");
+  EXPECT_TRUE(report["support_free"].get<bool>()) << report["strategy_reason"];
+  check_readback(dir.path(), "side_arm");
 }
 
 // two_branches at other sizes: the trunk and branch leave far less overhang than the planar
