@@ -76,7 +76,18 @@ struct Candidate {
   // regions can be planned again along other directions (redirected).
   std::vector<PlanRegion> regions;
   PlanOptions plan_options;
+  bool root_at_lowest = false;  // a decomposition's root stands on the part's lowest point
 };
+
+// The layers of PLAN that turn with the part rather than stay parallel: "tilted", "conformal",
+// "tilted and conformal", or empty when every region is planar.
+std::string turned_layers(const Plan& plan) {
+  auto uses = [&](slicing::LayerStrategy s) {
+    return std::any_of(plan.placed_regions.begin(), plan.placed_regions.end(), [&](const PlanRegion& r) { return !r.prebuilt && r.layers == s; });
+  };
+  const bool tilted = uses(slicing::LayerStrategy::kTilted), conformal = uses(slicing::LayerStrategy::kConformal);
+  return tilted && conformal ? "tilted and conformal" : tilted ? "tilted" : conformal ? "conformal" : "";
+}
 
 // What every decomposition of one part computes alike, computed once: the count of faces that cross
 // another and the centroidal axis from each start direction. Candidates may ask side by side; each
@@ -106,6 +117,41 @@ class PartMemo {
     return *entry->axis;
   }
 
+  // The decomposition of the solid (analysis::decompose) under AXIS and OPTIONS, made once for each
+  // root (every option but `stop` keys it: the machine and process are the same for one part). The
+  // choice on planar layers asks for the same trees as the choice on automatic ones. A run that was
+  // stopped is not kept; two lanes asking for one root at once may both make it (the same tree).
+  core::Result<analysis::RegionTree> decomposition(const mesh::Mesh& solid, const analysis::CentroidalAxis& axis,
+                                                   const analysis::DecomposeOptions& options) {
+    const analysis::RootBase& b = options.root_base;
+    const std::vector<double> key{options.root_direction.x, options.root_direction.y, options.root_direction.z,
+                                  static_cast<double>(b.kind), static_cast<double>(b.face), b.point.x, b.point.y, b.point.z,
+                                  b.normal.x, b.normal.y, b.normal.z, options.self_supporting_deg, options.face_normal_tolerance_deg,
+                                  options.work_budget_facet_visits, options.reach_deg, options.min_region_mm};
+    {
+      const std::lock_guard lock(mutex_);
+      if (auto it = trees_.find(key); it != trees_.end()) return it->second;
+    }
+    auto tree = analysis::decompose(solid, axis, options);
+    if (options.stop != nullptr && options.stop->load()) return tree;
+    const std::lock_guard lock(mutex_);
+    trees_.emplace(key, tree);
+    return tree;
+  }
+
+  // An automatic choice's candidate that took planar layers in every region, under KEY (the
+  // candidate and how the part stands): the choice again on planar layers would make the same plan
+  // (auto slices planar layers first and keeps them), so it is taken from here. Null when none.
+  std::shared_ptr<const Candidate> planar_candidate(const std::vector<double>& key) {
+    const std::lock_guard lock(mutex_);
+    auto it = planar_.find(key);
+    return it == planar_.end() ? nullptr : it->second;
+  }
+  void keep_planar_candidate(const std::vector<double>& key, const Candidate& c) {
+    const std::lock_guard lock(mutex_);
+    planar_.emplace(key, std::make_shared<const Candidate>(c));
+  }
+
   // The part's trunk splits (detail::trunk_splits) for beads of BEAD_MM, the first call's bead.
   const std::vector<detail::TrunkSplit>& trunk_splits(double bead_mm) {
     std::call_once(splits_once_, [&] { splits_ = detail::trunk_splits(part_, bead_mm); });
@@ -124,6 +170,8 @@ class PartMemo {
   std::optional<core::Result<const mesh::RepairedMesh*>> solid_;
   std::mutex mutex_;
   std::map<std::array<double, 3>, std::shared_ptr<AxisEntry>> axes_;
+  std::map<std::vector<double>, core::Result<analysis::RegionTree>> trees_;
+  std::map<std::vector<double>, std::shared_ptr<const Candidate>> planar_;
   std::once_flag splits_once_;
   std::vector<detail::TrunkSplit> splits_;
 };
@@ -383,7 +431,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   dopt.reach_deg = detail::direction_reach_rad(machine, process) * 180.0 / std::numbers::pi;
   dopt.min_region_mm = process.layer_min_mm;
   dopt.stop = stop;
-  auto tree = analysis::decompose(solid.mesh, axis.value(), dopt);
+  auto tree = memo.decomposition(solid.mesh, axis.value(), dopt);
   if (!tree) return tree.error();
   if (stop != nullptr && stop->load()) return core::make_error(core::ErrorCode::kInfeasible, "not wanted any more");
   if (root_at_lowest != nullptr) {
@@ -393,11 +441,13 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
     for (const Vec3& v : part.mesh.vertices) lowest = std::min(lowest, core::dot(v, up));
     *root_at_lowest = core::dot(root.base_point, up) - lowest <= kSameBaseMm;
   }
+  const bool at_lowest = root_at_lowest != nullptr && *root_at_lowest;
   if (o.strategy == Strategy::kAuto && tree.value().regions.size() < 2) {
     return core::make_error(core::ErrorCode::kInfeasible, "it finds the part one region: nothing to split");
   }
   Candidate c;
   c.strategy = Strategy::kDecompose;
+  c.root_at_lowest = at_lowest;
   if (dopt.reach_deg < 180.0) {
     double left = 0.0;
     for (const analysis::Region& r : tree.value().regions) left += r.support_free ? 0.0 : r.unsupported_area_mm2;
@@ -559,9 +609,22 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
     if (i != kOneOnASide) return std::string(kAutoLabels[i]);
     return fmt::format("{} (along {})", kAutoLabels[i], direction_text(side));
   };
+  const analysis::RootBase& rb = o.root_base;
+  auto memo_key = [&](std::size_t i) {
+    return std::vector<double>{static_cast<double>(i), o.direction.x, o.direction.y, o.direction.z, static_cast<double>(rb.kind),
+                               static_cast<double>(rb.face), rb.point.x, rb.point.y, rb.point.z, rb.normal.x, rb.normal.y, rb.normal.z};
+  };
   auto make = [&](std::size_t i, auto&& plan) {
     if (unwanted[i].load()) return;
-    made[i].emplace(plan(&unwanted[i]));
+    const auto kept = o.plan.layers == LayerChoice::kPlanar ? memo.planar_candidate(memo_key(i)) : nullptr;
+    if (kept) {
+      made[i].emplace(*kept);
+    } else {
+      made[i].emplace(plan(&unwanted[i]));
+      if (o.plan.layers == LayerChoice::kAuto && made[i]->ok() && !unwanted[i].load() && turned_layers(made[i]->value().plan).empty()) {
+        memo.keep_planar_candidate(memo_key(i), made[i]->value());
+      }
+    }
     if (made[i]->ok() && made[i]->value().plan.unsupported_area_mm2 == 0.0) {
       for (std::size_t j = i + 1; j < kAutoCandidates; ++j) unwanted[j] = true;
     }
@@ -591,6 +654,7 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
         const core::ProgressScope scope(progress);
         bool at_lowest = false;
         make(kDecomposition, [&](auto stop) { return plan_decomposed(part, machine, process, o, o.root_base, memo, stop, &at_lowest); });
+        if (made[kDecomposition] && made[kDecomposition]->ok()) at_lowest = at_lowest || made[kDecomposition]->value().root_at_lowest;
         if (!may_turn_over) return;
         // Rooted at the lowest point it would give the same tree, and the same plan or refusal, as the
         // decomposition rooted there.
@@ -1028,16 +1092,6 @@ bool take_redirected(const mesh::RepairedMesh& part, const machine::MachineConfi
   return true;
 }
 
-// The layers of PLAN that turn with the part rather than stay parallel: "tilted", "conformal",
-// "tilted and conformal", or empty when every region is planar.
-std::string turned_layers(const Plan& plan) {
-  auto uses = [&](slicing::LayerStrategy s) {
-    return std::any_of(plan.placed_regions.begin(), plan.placed_regions.end(), [&](const PlanRegion& r) { return !r.prebuilt && r.layers == s; });
-  };
-  const bool tilted = uses(slicing::LayerStrategy::kTilted), conformal = uses(slicing::LayerStrategy::kConformal);
-  return tilted && conformal ? "tilted and conformal" : tilted ? "tilted" : conformal ? "conformal" : "";
-}
-
 // OUT as plan_part returns it: its warnings (feeds the machine slows, robot wrist and
 // configuration, thin regions, overhang, collisions kept, a region in mid-air), or kInfeasible
 // naming the first collisions unless OPTIONS allow them.
@@ -1112,18 +1166,18 @@ struct Outdone {
 };
 
 // plan_part with the layers OPTIONS.plan.layers asks for (plan_part adds the comparison of auto
-// layers with planar ones). With TO_BEAT (the unsupported area of a plan that reads back clean), a
-// choice leaving more than that is not programmed: what follows the choice (relief, the regions
-// turned elsewhere, the fallbacks to one direction) is made to clear collisions, not overhang, and
-// each of its alternatives was ranked below the choice, so it cannot win. Its figures go to
-// OUTDONE and the result is an error.
+// layers with planar ones). With TO_BEAT (a plan that reads back clean), a choice that is not
+// better (better()) is not programmed: what follows the choice (relief, the regions turned
+// elsewhere, the fallbacks to one direction) is made to clear collisions, not overhang, and each of
+// its alternatives was ranked below the choice, so it cannot win. Its figures go to OUTDONE and the
+// result is an error.
 core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                                 const process::ProcessConfig& process, const PlanPartOptions& options, PartMemo& memo,
-                                                std::optional<double> to_beat = std::nullopt, std::optional<Outdone>* outdone = nullptr) {
+                                                const Plan* to_beat = nullptr, std::optional<Outdone>* outdone = nullptr) {
   PlanPartResult out;
   const auto t_choose = Clock::now();
   auto chosen = choose(part, machine, process, options, memo, out.choice);
-  if (chosen && to_beat && chosen.value().plan.unsupported_area_mm2 > *to_beat + kUnsupportedNoiseMm2) {
+  if (chosen && to_beat != nullptr && !better(chosen.value().plan, *to_beat)) {
     const Plan& p = chosen.value().plan;
     if (outdone != nullptr) outdone->emplace(Outdone{p.unsupported_area_mm2, p.regions, p.reorientations});
     return core::make_error(core::ErrorCode::kInfeasible, "outdone before its program");
@@ -1247,8 +1301,7 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
   planar_options.plan.layers = LayerChoice::kPlanar;
   auto clean = [](const PlanPartResult& r) { return r.check.collisions == 0 && r.check.mid_air_regions.empty(); };
   std::optional<Outdone> outdone;
-  auto planar = plan_part_as_asked(part, machine, process, planar_options, memo,
-                                   clean(first.value()) ? std::optional<double>(first.value().plan.unsupported_area_mm2) : std::nullopt, &outdone);
+  auto planar = plan_part_as_asked(part, machine, process, planar_options, memo, clean(first.value()) ? &first.value().plan : nullptr, &outdone);
   if (outdone) {
     const Plan& kept = first.value().plan;
     first.value().choice += fmt::format("; {} layers: {} mm2 unsupported, {} regions, {} reorientations against {}, {}, {} on planar layers (chosen, not programmed)",
