@@ -66,6 +66,9 @@ std::string describe(const verify::Collision& c) {
 
 // A root base within this of the part's lowest point (along the root's direction) is that point.
 constexpr double kSameBaseMm = 1e-6;
+// Restarts where the rotary axes stall (post::GcodeStats::stall_splits) are warned of when their
+// dwells take at least this share of the build time.
+constexpr double kStallRestartWarnShare = 0.05;
 
 struct Candidate {
   Plan plan;
@@ -1115,6 +1118,18 @@ core::Result<PlanPartResult> finished(PlanPartResult out, const machine::Machine
   if (const post::GcodeStats& g = out.gcode_stats; machine.robot && g.robot_config_changes > 0) {
     out.warnings.push_back(fmt::format("the robot changes its configuration {} times, each on a joint move (MoveJ) with the process off",
                                        g.robot_config_changes));
+  }
+  if (const std::uint64_t restarts = out.gcode_stats.stall_splits; restarts > 0 && process.dwell_on_s > 0.0) {
+    // Each turn in place is a bead stopped and started again (a seam, and metal where it restarts)
+    // with the process's dwell: worth knowing where they take a noticeable share of the build.
+    const double dwell_s = static_cast<double>(restarts) * process.dwell_on_s, total_s = out.simulation.build_time.total_s;
+    if (total_s > 0.0 && dwell_s >= kStallRestartWarnShare * total_s) {
+      out.warnings.push_back(fmt::format("the process is switched off and on again {} times where the rotary axes cannot turn the torch as "
+                                         "fast as the tip moves (a turn in place each; {:.0f} s of dwell, {:.0f} % of the build time): "
+                                         "layers whose normal turns less along a contour (planar ones) or faster rotary axes "
+                                         "(machine feed.rotary_max_deg_min) avoid them",
+                                         restarts, dwell_s, 100.0 * dwell_s / total_s));
+    }
   }
   if (plan.thin_regions > 0) {
     out.warnings.push_back(fmt::format("{} regions thinner than a bead ({:.1f} mm2) get no path; see plan.json", plan.thin_regions,

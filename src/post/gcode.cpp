@@ -445,6 +445,8 @@ class ProgramWriter {
     return emit(turn.value(), o_.rapid_travel, p_.travel_feed_mm_s, where);
   }
 
+  std::uint64_t stall_splits() const { return stall_splits_; }
+
   // Switches the process off, and the closing comments.
   void finish() {
     switch_process(false);
@@ -529,6 +531,7 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
   if (w.over_cap()) {
     return make_error(ErrorCode::kOutput, fmt::format("the program exceeds the output cap of {} bytes", options.max_output_bytes));
   }
+  w.stats_.stall_splits = pw.stall_splits();
   if (options.stats != nullptr) *options.stats = w.stats_;
   return w.take();
 }

@@ -21,10 +21,11 @@ namespace {
 
 
 // Plans DIR/NAME.stl with defaults and checks it grew its branches on its trunk, support-free and
-// sound as read back.
-void expect_grown_on_trunk(const TempDir& dir, const std::string& name) {
+// sound as read back. ERR: the run's stderr, when given.
+void expect_grown_on_trunk(const TempDir& dir, const std::string& name, std::string* err = nullptr) {
   const auto r = run_cli(fmt::format("plan '{}' --no-html -o '{}'", (dir.path() / (name + ".stl")).string(), dir.path().string()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  if (err != nullptr) *err = r.err;
   const auto report = read_json(dir.path() / "report.json");
   EXPECT_TRUE(report["support_free"].get<bool>()) << report["strategy_reason"];
   EXPECT_NE(report["strategy_reason"].get<std::string>().find("grown on the trunk"), std::string::npos) << report["strategy_reason"];
@@ -72,10 +73,10 @@ TEST(PlanBranches, AColumnWithThreeArmsRoundItsSideGrowsThemOnTheColumn) {
 // A Y fork and a tuning fork of our own: both arms leave the column at an angle and stand close.
 // Grown one on the other, the head building the second strikes the first (read back); both grown
 // on the column, the trunk ending at the fork, they are support-free.
-void expect_both_arms_on_the_column(const std::string& name) {
+void expect_both_arms_on_the_column(const std::string& name, std::string* err = nullptr) {
   TempDir dir;
   std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/" + name + ".stl", dir.path() / (name + ".stl"));
-  expect_grown_on_trunk(dir, name);
+  expect_grown_on_trunk(dir, name, err);
   const auto report = read_json(dir.path() / "report.json");
   EXPECT_EQ(report["strategy_reason"].get<std::string>().rfind("the 2 branches leaving", 0), 0u) << report["strategy_reason"];
   const auto plan = read_json(dir.path() / "plan.json");
@@ -85,7 +86,14 @@ void expect_both_arms_on_the_column(const std::string& name) {
 
 TEST(PlanBranches, AYForkGrowsBothArmsOnItsColumn) { expect_both_arms_on_the_column("yfork"); }
 
-TEST(PlanBranches, ATuningForkGrowsBothArmsOnItsHandle) { expect_both_arms_on_the_column("tuning_fork"); }
+// The fork's arms leave the handle's top sideways and the torch follows their conformal layers
+// round the joint faster than the rotary axes turn: the writer turns it in place with the process
+// off thousands of times, and the plan says so (the restarts' dwells are 46 % of the build).
+TEST(PlanBranches, ATuningForkGrowsBothArmsOnItsHandle) {
+  std::string err;
+  expect_both_arms_on_the_column("tuning_fork", &err);
+  EXPECT_NE(err.find("warning: the process is switched off and on again"), std::string::npos) << err;
+}
 
 // A column with one arm leaving its side: its trunk splits overhang a little (0.1 mm²), and so does
 // each candidate on the layers auto judged best region by region; the same choice on planar layers

@@ -44,6 +44,9 @@ struct GcodeStats {
   std::uint64_t feed_blocks = 0;     // G1 blocks
   std::uint64_t linear_limited = 0;  // of which the linear axes' maximum (feed.linear_max_mm_min) set the time
   std::uint64_t rotary_limited = 0;  // of which the rotary axes' maximum set the time (turning the tool)
+  // Deposit moves split into a turn in place with the process off and the bead at the new axis
+  // (split_stalls): each is a restart of the process, with its dwell.
+  std::uint64_t stall_splits = 0;
   // A robot cell (post abb-rapid): what the robot's own inverse kinematics found along the program.
   std::uint64_t robot_targets = 0;          // robtargets written
   std::uint64_t robot_config_changes = 0;   // moves on which the arm changes configuration (cfx): joint moves, process off
