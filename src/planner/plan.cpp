@@ -863,16 +863,6 @@ std::size_t relieve_collisions(Plan& plan, const machine::MachineConfig& machine
     if (best > 0) marked.insert({layer, best - 1});
   }
   const double reach = detail::reach_rad(machine);
-  // A turn must not put the head into the deposit laid before the point (the read-back's own
-  // collision, moved elsewhere): the candidates are checked against it, as the read-back checks
-  // (no margin).
-  const std::vector<verify::PlannedPoint> planned = detail::planned_points(plan);
-  const verify::DepositCheck laid(plan.build_model, planned, process.bead_width_mm);
-  std::vector<std::size_t> layer_first(plan.toolpaths.size() + 1, 0);  // each layer's first point in the build order
-  for (std::size_t k = 0; k < plan.toolpaths.size(); ++k) {
-    layer_first[k + 1] = layer_first[k];
-    for (const toolpath::Path& path : plan.toolpaths[k].paths) layer_first[k + 1] += path.points.size();
-  }
   std::size_t turned = 0;
   for (const auto& [layer, index] : marked) {
     toolpath::PathPoint* p = nullptr;
@@ -900,7 +890,7 @@ std::size_t relieve_collisions(Plan& plan, const machine::MachineConfig& machine
       Vec3 axis = candidates[step++];
       if (core::dot(axis, n) < std::cos(toolpath::kMaxTiltRad) || core::norm(axis - core::normalized(p->tool_axis)) < 1e-3) continue;
       if (!detail::guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, p->position_mm, n, axis)) continue;
-      if (!turns_clear(axis) || laid.strikes(p->position_mm, axis, layer_first[layer] + index, 0.0)) continue;
+      if (!turns_clear(axis)) continue;
       p->tool_axis = axis;
       ++turned, ++plan.tilts_eased, ++plan.toolpaths[layer].axes_eased;
       break;

@@ -335,13 +335,11 @@ void expect_defaults_support_free_and_grounded(const std::filesystem::path& dir,
 // region, built after the whole wall, brings the nozzle into the wall above it, centimetres deep.
 // Turning the torch at the places struck only moves the strikes: relief stops after the first round
 // that strikes as often as the one before, instead of making and reading back the program twice more.
-// (With the wall 50 mm tall each round now strikes less, since relief no longer turns a point into
-// the deposit, and three rounds are made: the wall is 60 mm tall here.)
 TEST(PlanRelief, ARoundThatStrikesAsOftenEndsTheRelief) {
   TempDir dir;
   const auto part = dir / "shelf.stl";
   std::ofstream(part, std::ios::binary) << binary_stl(
-      prism_xz({{0, 0}, {8, 0}, {8, 10}, {14, 10}, {34, 30}, {34, 34}, {20, 34}, {20, 30}, {8, 18}, {8, 60}, {0, 60}}, 40.0));
+      prism_xz({{0, 0}, {8, 0}, {8, 10}, {14, 10}, {34, 30}, {34, 34}, {20, 34}, {20, 30}, {8, 18}, {8, 50}, {0, 50}}, 40.0));
   const auto plan = run_cli("plan '" + part.string() + "' --strategy decompose --keep-directions --allow-collisions --no-html -o '" +
                             dir.path().string() + "'");
   ASSERT_EQ(plan.exit_code, 0) << plan.err;

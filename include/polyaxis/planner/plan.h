@@ -269,8 +269,7 @@ inline constexpr double kUnsupportedNoiseMm2 = 0.01;
 // bead of a layer's path (PLACES: each a layer and the tip, verify::BuildCheck::collision_places),
 // the torch at the layer's toolpath points nearest each place (the move's two ends) turns further
 // — first along the layer's normal, then half way and all the way towards the table's normal
-// within toolpath::kMaxTiltRad — keeping the plate, the table, the reach and the deposit laid
-// before the point clear; the support
+// within toolpath::kMaxTiltRad — keeping the plate, the table and the reach clear; the support
 // check and the program are then made again. Each call takes every point one candidate further.
 // Returns how many points turned (0: nothing left to try).
 std::size_t relieve_collisions(Plan& plan, const machine::MachineConfig& machine, const process::ProcessConfig& process,

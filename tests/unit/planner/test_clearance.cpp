@@ -8,9 +8,7 @@
 
 #include "planner/clearance.h"
 #include "planner/reach.h"
-#include "polyaxis/io/read_part.h"
 #include "polyaxis/machine/build_model.h"
-#include "polyaxis/mesh/repair.h"
 #include "polyaxis/planner/plan_part.h"
 #include "polyaxis/verify/deposit_check.h"
 #include "support/meshes.h"
@@ -236,48 +234,6 @@ TEST(EaseTilts, TheHeadTurningBackFromATiltToTheNormalIsCheckedAndTheTiltEased) 
     EXPECT_FALSE(deposit.strikes(t1, axis, p2, 0.0)) << "in place " << w;
     EXPECT_FALSE(deposit.strikes(t1 + (t2 - t1) * w, axis, p2, 0.0)) << "on the way " << w;
   }
-}
-
-TEST(RelieveCollisions, ATurnAfterTheReadBackNeverPutsTheHeadIntoTheDepositLaidBefore) {
-  // The tuning fork of the branch corpus decomposed on planar layers: read back, the head strikes
-  // an arm laid earlier where a prong's first perimeter starts, and relief turns the points there.
-  // Its candidates (the layer's normal, half way and all the way to the table's) were checked
-  // against the plate and the table only: one turned the perimeter's first point half way up,
-  // straight into the arm (176 samples read back, 4.1 mm deep). Every point relief turned must
-  // leave the head clear of the deposit laid before it.
-  auto read = io::read_part(std::string(POLYAXIS_CORPUS_DIR) + "/branches/tuning_fork.stl");
-  ASSERT_TRUE(read.ok());
-  auto part = mesh::repair(std::move(read.value().mesh));
-  ASSERT_TRUE(part.ok());
-  const machine::MachineConfig m = test::example_machine("ded5_ac");
-  const process::ProcessConfig p = test::default_process();
-  PlanPartOptions o;
-  o.strategy = Strategy::kDecompose;
-  o.plan.layers = LayerChoice::kPlanar;
-  o.allow_collisions = true;
-  auto r = plan_part(part.value(), m, p, o);
-  ASSERT_TRUE(r.ok()) << r.error().message;
-  const Plan& plan = r.value().plan;
-  ASSERT_GT(plan.relief_rounds, 0u);  // the case relief is for
-  ASSERT_FALSE(plan.relieved.empty());
-  const verify::DepositCheck laid(plan.build_model, planned_points(plan), p.bead_width_mm);
-  std::size_t layer_first = 0, checked = 0;
-  for (std::uint32_t layer = 0; layer < plan.toolpaths.size(); ++layer) {
-    std::size_t index = 0;
-    for (const toolpath::Path& path : plan.toolpaths[layer].paths) {
-      for (const toolpath::PathPoint& q : path.points) {
-        if (plan.relieved.count({layer, static_cast<std::uint32_t>(index)}) != 0) {
-          ++checked;
-          EXPECT_FALSE(laid.strikes(q.position_mm, q.tool_axis, layer_first + index, 0.0))
-              << "layer " << layer << " point " << index << " at (" << q.position_mm.x << ", " << q.position_mm.y << ", " << q.position_mm.z
-              << ") axis (" << q.tool_axis.x << ", " << q.tool_axis.y << ", " << q.tool_axis.z << ")";
-        }
-        ++index;
-      }
-    }
-    layer_first += index;
-  }
-  EXPECT_GT(checked, 0u);
 }
 
 }  // namespace
