@@ -622,6 +622,8 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
     const auto kept = o.plan.layers == LayerChoice::kPlanar ? memo.planar_candidate(memo_key(i)) : nullptr;
     if (kept) {
       made[i].emplace(*kept);
+      // As this choice would have planned it: regions it plans again (redirected) take planar layers too.
+      made[i]->value().plan_options.layers = o.plan.layers;
     } else {
       made[i].emplace(plan(&unwanted[i]));
       if (o.plan.layers == LayerChoice::kAuto && made[i]->ok() && !unwanted[i].load() && turned_layers(made[i]->value().plan).empty()) {
