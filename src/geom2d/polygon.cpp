@@ -1,5 +1,6 @@
 #include "polyaxis/geom2d/polygon.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace polyaxis::geom2d {
@@ -82,6 +83,64 @@ bool is_simple(const Ring& ring) {
     }
   }
   return true;
+}
+
+namespace {
+
+// Squared distance (units²) from P to the segment AB.
+double distance2_to_segment(Point p, Point a, Point b) {
+  const double ux = static_cast<double>(b.x - a.x), uy = static_cast<double>(b.y - a.y);
+  const double px = static_cast<double>(p.x - a.x), py = static_cast<double>(p.y - a.y);
+  const double l2 = ux * ux + uy * uy;
+  const double t = l2 > 0.0 ? std::clamp((px * ux + py * uy) / l2, 0.0, 1.0) : 0.0;
+  const double dx = px - t * ux, dy = py - t * uy;
+  return dx * dx + dy * dy;
+}
+
+}  // namespace
+
+Ring simplified(const Ring& ring, double tolerance_mm) {
+  const std::size_t n = ring.size();
+  if (n <= 3 || !(tolerance_mm > 0.0)) return ring;
+  const double tol2 = std::pow(tolerance_mm * kUnitsPerMm, 2);
+  // The point farthest from the first splits the ring into two chains.
+  std::size_t far = 0;
+  double far2 = -1.0;
+  for (std::size_t i = 1; i < n; ++i) {
+    const double dx = static_cast<double>(ring[i].x - ring[0].x), dy = static_cast<double>(ring[i].y - ring[0].y);
+    if (dx * dx + dy * dy > far2) far2 = dx * dx + dy * dy, far = i;
+  }
+  std::vector<char> keep(n, 0);
+  keep[0] = keep[far] = 1;
+  // Chains [first, last] read cyclically (last may be n: the first point again).
+  std::vector<std::pair<std::size_t, std::size_t>> stack{{0, far}, {far, n}};
+  while (!stack.empty()) {
+    const auto [first, last] = stack.back();
+    stack.pop_back();
+    if (last - first < 2) continue;
+    const Point a = ring[first], b = ring[last % n];
+    std::size_t worst = first;
+    double worst2 = -1.0;
+    for (std::size_t i = first + 1; i < last; ++i) {
+      const double d2 = distance2_to_segment(ring[i], a, b);
+      if (d2 > worst2) worst2 = d2, worst = i;
+    }
+    if (worst2 <= tol2) continue;
+    keep[worst] = 1;
+    stack.push_back({first, worst}), stack.push_back({worst, last});
+  }
+  Ring out;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (keep[i]) out.push_back(ring[i]);
+  }
+  return out.size() < 3 ? ring : out;
+}
+
+Polygon simplified(const Polygon& polygon, double tolerance_mm) {
+  Polygon out{simplified(polygon.outer, tolerance_mm), {}};
+  out.holes.reserve(polygon.holes.size());
+  for (const Ring& h : polygon.holes) out.holes.push_back(simplified(h, tolerance_mm));
+  return out;
 }
 
 Centroid centroid(const std::vector<Polygon>& polygons) {

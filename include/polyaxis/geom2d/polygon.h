@@ -59,4 +59,12 @@ bool segments_touch(Point a, Point b, Point c, Point d);
 // (exact predicates). O(n^2): meant for checks and tests.
 bool is_simple(const Ring& ring);
 
+// RING with the points dropped that Douglas–Peucker finds within TOLERANCE_MM of the chord
+// between the points kept on either side (split at its first point and the point farthest from
+// it): every dropped point stays within the tolerance of the ring returned. A ring that would keep
+// fewer than three points is returned as it is. O(n log n) typical, O(n²) worst.
+Ring simplified(const Ring& ring, double tolerance_mm);
+// POLYGON with each of its rings simplified().
+Polygon simplified(const Polygon& polygon, double tolerance_mm);
+
 }  // namespace polyaxis::geom2d

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "polyaxis/geom2d/clip.h"
 #include "polyaxis/geom2d/polygon.h"
 
@@ -23,6 +26,51 @@ TEST(Polygon, Simplicity) {
   EXPECT_TRUE(is_simple(square(0, 0, 10)));
   EXPECT_FALSE(is_simple({{0, 0}, {10, 10}, {10, 0}, {0, 10}}));  // bow tie
   EXPECT_FALSE(is_simple({{0, 0}, {10, 0}, {10, 0}, {0, 10}}));   // repeated point
+}
+
+// A point's distance (mm) from the closed ring R.
+double distance_to_ring_mm(Point p, const Ring& r) {
+  double best = INFINITY;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const Point a = r[i], b = r[(i + 1) % r.size()];
+    const double ux = double(b.x - a.x), uy = double(b.y - a.y), px = double(p.x - a.x), py = double(p.y - a.y);
+    const double l2 = ux * ux + uy * uy, t = l2 > 0 ? std::clamp((px * ux + py * uy) / l2, 0.0, 1.0) : 0.0;
+    best = std::min(best, std::hypot(px - t * ux, py - t * uy));
+  }
+  return best / kUnitsPerMm;
+}
+
+TEST(Polygon, SimplifiedDropsOnlyPointsWithinTheTolerance) {
+  // Circles of several radii and point counts, with a point half-way along every edge nudged off
+  // it by less than the tolerance (the diagonal of a split quad): those go, the corners stay.
+  for (const double radius : {0.7, 5.0, 55.0}) {
+    for (const int n : {12, 97, 640}) {
+      Ring ring;
+      for (int k = 0; k < n; ++k) {
+        const double a0 = 2 * 3.14159265358979 * k / n, a1 = 2 * 3.14159265358979 * (k + 0.5) / n;
+        ring.push_back({to_units(radius * std::cos(a0)), to_units(radius * std::sin(a0))});
+        const double r_mid = radius * std::cos(3.14159265358979 / n) - 0.0005;  // just inside the chord
+        ring.push_back({to_units(r_mid * std::cos(a1)), to_units(r_mid * std::sin(a1))});
+      }
+      for (const double tol : {0.001, 0.002, 0.01}) {
+        const Ring s = simplified(ring, tol);
+        ASSERT_GE(s.size(), 3u);
+        EXPECT_LE(s.size(), ring.size());
+        for (const Point& p : ring) EXPECT_LE(distance_to_ring_mm(p, s), tol + 1e-9) << radius << " " << n << " " << tol;
+        for (const Point& p : s) EXPECT_NE(std::find(ring.begin(), ring.end(), p), ring.end());  // a subset, in order
+        EXPECT_LE(s.size(), static_cast<std::size_t>(n)) << "the nudged mid-points go";
+        EXPECT_TRUE(is_simple(s));
+      }
+    }
+  }
+  // A square keeps its corners, with or without points along its sides.
+  const std::int64_t mm = to_units(1);
+  const Ring sq{{0, 0}, {5 * mm, 0}, {10 * mm, 0}, {10 * mm, 10 * mm}, {0, 10 * mm}, {0, 4 * mm}};
+  EXPECT_EQ(simplified(sq, 0.002), (Ring{{0, 0}, {10 * mm, 0}, {10 * mm, 10 * mm}, {0, 10 * mm}}));
+  // Too few points to keep, or no tolerance: as it is.
+  const Ring thin{{0, 0}, {10 * mm, 0}, {10 * mm, 1000}, {0, 1000}};
+  EXPECT_EQ(simplified(thin, 0.002), thin);
+  EXPECT_EQ(simplified(sq, 0.0), sq);
 }
 
 TEST(Clip, UnionNestsHolesAndOrients) {
