@@ -516,12 +516,20 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   return c;
 }
 
+// A plan's figures as better() ranks them.
+struct Figures {
+  double unsupported_area_mm2 = 0.0;
+  std::size_t regions = 0, reorientations = 0;
+  static Figures of(const Plan& p) { return {p.unsupported_area_mm2, p.regions, p.reorientations}; }
+};
+
 // True when A is the better plan: less unsupported area, then fewer regions, then fewer reorientations.
-bool better(const Plan& a, const Plan& b) {
+bool better(const Figures& a, const Figures& b) {
   if (std::abs(a.unsupported_area_mm2 - b.unsupported_area_mm2) > kUnsupportedNoiseMm2) return a.unsupported_area_mm2 < b.unsupported_area_mm2;
   if (a.regions != b.regions) return a.regions < b.regions;
   return a.reorientations < b.reorientations;
 }
+bool better(const Plan& a, const Plan& b) { return better(Figures::of(a), Figures::of(b)); }
 
 // --substrate: the part less the substrate along one direction (kSingle), each of its pieces along
 // the substrate's normal under it (kDecompose), or both and the better (kAuto, as choose()).
@@ -1175,37 +1183,34 @@ core::Result<PlanPartResult> finished(PlanPartResult out, const machine::Machine
   return out;
 }
 
-// A choice that was not programmed because it could not beat the plan it was made to be compared
-// with: its figures, as better() ranks them.
-struct Outdone {
-  double unsupported_area_mm2 = 0.0;
-  std::size_t regions = 0, reorientations = 0;
-};
-
 // plan_part with the layers OPTIONS.plan.layers asks for (plan_part adds the comparison of auto
-// layers with planar ones). With TO_BEAT (a plan that reads back clean), a choice that is not
-// better (better()) is not programmed: what follows the choice (relief, the regions turned
-// elsewhere, the fallbacks to one direction) is made to clear collisions, not overhang, and each of
-// its alternatives was ranked below the choice, so it cannot win. Its figures go to OUTDONE and the
-// result is an error.
+// layers with planar ones). With TO_BEAT (the figures of the choice behind a program that reads
+// back clean, MADE_FROM of that call), a choice that is not better (better()) is not programmed:
+// what follows the choice (relief, the regions turned elsewhere, the fallbacks to one direction)
+// is made to clear collisions, not overhang, and each of its alternatives was ranked below the
+// choice, so it cannot win. Its figures go to OUTDONE and the result is an error. MADE_FROM: the
+// figures of the plan the result's program was made from, as chosen (before relief, which turns
+// the torch and may add reorientations: choices are compared as chosen, or the same choice made
+// again would seem the better and be programmed twice).
 core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                                 const process::ProcessConfig& process, const PlanPartOptions& options, PartMemo& memo,
-                                                const Plan* to_beat = nullptr, std::optional<Outdone>* outdone = nullptr) {
+                                                const Figures* to_beat = nullptr, std::optional<Figures>* outdone = nullptr,
+                                                Figures* made_from = nullptr) {
   PlanPartResult out;
   const auto t_choose = Clock::now();
   auto chosen = choose(part, machine, process, options, memo, out.choice);
-  if (chosen && to_beat != nullptr && !better(chosen.value().plan, *to_beat)) {
-    const Plan& p = chosen.value().plan;
-    if (outdone != nullptr) outdone->emplace(Outdone{p.unsupported_area_mm2, p.regions, p.reorientations});
+  if (chosen && to_beat != nullptr && !better(Figures::of(chosen.value().plan), *to_beat)) {
+    if (outdone != nullptr) outdone->emplace(Figures::of(chosen.value().plan));
     return core::make_error(core::ErrorCode::kInfeasible, "outdone before its program");
   }
+  if (chosen && made_from != nullptr) *made_from = Figures::of(chosen.value().plan);
   if (!chosen) {
     if (options.plan.layers != LayerChoice::kAuto) return chosen.error();
     // Layers auto chose that cannot be planned (no torch axis keeps the head off the plate along
     // tilted layers, say): the whole choice again on planar layers, when that reads back clean.
     PlanPartOptions planar = options;
     planar.plan.layers = LayerChoice::kPlanar;
-    auto alt = plan_part_as_asked(part, machine, process, planar, memo);
+    auto alt = plan_part_as_asked(part, machine, process, planar, memo, nullptr, nullptr, made_from);
     if (!alt || alt.value().check.collisions > 0 || !alt.value().check.mid_air_regions.empty()) return chosen.error();
     const std::string why = fmt::format("the layers auto chose cannot be planned: {}", chosen.error().message);
     alt.value().choice += fmt::format("; planar layers: {}", why);
@@ -1228,8 +1233,10 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // choice again on planar layers, when that reads back clean.
     PlanPartOptions planar = options;
     planar.plan.layers = LayerChoice::kPlanar;
-    auto alt = plan_part_as_asked(part, machine, process, planar, memo);
+    Figures planar_made;
+    auto alt = plan_part_as_asked(part, machine, process, planar, memo, nullptr, nullptr, &planar_made);
     if (alt && alt.value().check.collisions == 0 && alt.value().check.mid_air_regions.empty()) {
+      if (made_from != nullptr) *made_from = planar_made;
       const std::string why = !made     ? fmt::format("the {} layers' program cannot be written: {}", turned, made.error().message)
                               : mid_air ? fmt::format("read back, the {} layers' region {} starts in mid-air", turned, out.check.mid_air_regions.front())
                                         : fmt::format("read back, the {} layers' program strikes something at {} samples (the first: {})", turned,
@@ -1257,6 +1264,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
       alt.warnings = {fmt::format("each piece on the substrate is built along the substrate's normal under it because {}", why)};
       alt.choose_s = out.choose_s;
       out = std::move(alt);
+      if (made_from != nullptr) *made_from = Figures::of(out.plan);
       made = {}, mid_air = false, collides = false;
     }
   }
@@ -1265,6 +1273,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
   if (options.redirect_regions && made && collides && !mid_air && out.strategy_used == Strategy::kDecompose && options.prebuilt.empty() &&
       !options.substrate) {
     collides = !take_redirected(part, machine, process, options, chosen.value(), single, out);
+    if (!collides && made_from != nullptr) *made_from = Figures::of(out.plan);
   }
   if (options.strategy == Strategy::kAuto && options.prebuilt.empty() && !options.substrate && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
     // The decomposition's program cannot be written (a limit of the machine that only shows in
@@ -1288,6 +1297,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
       alt.choice = fmt::format("{} ({} mm2 unsupported): {}", label, area_text(alt.plan.unsupported_area_mm2), why);
       alt.warnings = {fmt::format("{} was chosen because {}", label, why)};
       out = std::move(alt);
+      if (made_from != nullptr) *made_from = Figures::of(out.plan);
       made = {};
     }
   }
@@ -1304,7 +1314,8 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
   PlanPartOptions options = asked;
   if (options.gcode.part == nullptr) options.gcode.part = &part.mesh;  // the posts that carry the part (3MF toolpath)
   PartMemo memo(part);
-  auto first = plan_part_as_asked(part, machine, process, options, memo);
+  Figures first_made;
+  auto first = plan_part_as_asked(part, machine, process, options, memo, nullptr, nullptr, &first_made);
   if (options.plan.layers != LayerChoice::kAuto || !first) return first;
   const std::string turned_or_none = turned_layers(first.value().plan);
   if (turned_or_none.empty() && first.value().plan.unsupported_area_mm2 == 0.0) return first;
@@ -1317,8 +1328,8 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
   PlanPartOptions planar_options = options;
   planar_options.plan.layers = LayerChoice::kPlanar;
   auto clean = [](const PlanPartResult& r) { return r.check.collisions == 0 && r.check.mid_air_regions.empty(); };
-  std::optional<Outdone> outdone;
-  auto planar = plan_part_as_asked(part, machine, process, planar_options, memo, clean(first.value()) ? &first.value().plan : nullptr, &outdone);
+  std::optional<Figures> outdone;
+  auto planar = plan_part_as_asked(part, machine, process, planar_options, memo, clean(first.value()) ? &first_made : nullptr, &outdone);
   if (outdone) {
     const Plan& kept = first.value().plan;
     first.value().choice += fmt::format("; {} layers: {} mm2 unsupported, {} regions, {} reorientations against {}, {}, {} on planar layers (chosen, not programmed)",
