@@ -165,15 +165,17 @@ double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal) {
   const Vec3 n = core::normalized(normal);
   double area = 0.0;
   for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-    const Vec3 a2 = mesh::face_area_vector(m, f);
-    const double len = core::norm(a2);
-    if (len == 0.0 || core::dot(a2, n) > -kCoplanarCos * len) continue;  // not facing away from the child
+    // In the band first: one dot product turns most faces away (this runs once per screened split).
     bool in_cut = true;
     for (int k = 0; k < 3 && in_cut; ++k) {
       const double d = core::dot(m.corner(f, k) - point, n);
       in_cut = d <= kOnBaseMm && d >= -kUndersideBandMm;
     }
-    if (in_cut) area += len / 2.0;
+    if (!in_cut) continue;
+    const Vec3 a2 = mesh::face_area_vector(m, f);
+    const double len = core::norm(a2);
+    if (len == 0.0 || core::dot(a2, n) > -kCoplanarCos * len) continue;  // not facing away from the child
+    area += len / 2.0;
   }
   return area;
 }

@@ -192,20 +192,28 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
   const HostFaces& hf = host.faces ? *host.faces : own;
   // Signed distances of the corners the search reaches, and the facets reached, stamped per call
   // (each thread keeps its own arrays: a call visits the child's facets only).
-  thread_local std::vector<double> s;
-  thread_local std::vector<std::uint32_t> s_stamp, reached_stamp;
-  thread_local std::uint32_t epoch = 0;
-  if (s.size() < nv) s.resize(nv), s_stamp.resize(nv, 0);
-  if (reached_stamp.size() < nf) reached_stamp.resize(nf, 0);
-  if (++epoch == 0) std::fill(s_stamp.begin(), s_stamp.end(), 0), std::fill(reached_stamp.begin(), reached_stamp.end(), 0), epoch = 1;
+  thread_local std::vector<double> tl_s;
+  thread_local std::vector<std::uint32_t> tl_s_stamp, tl_reached_stamp;
+  thread_local std::uint32_t tl_epoch = 0;
+  if (tl_s.size() < nv) tl_s.resize(nv), tl_s_stamp.resize(nv, 0);
+  if (tl_reached_stamp.size() < nf) tl_reached_stamp.resize(nf, 0);
+  if (++tl_epoch == 0) std::fill(tl_s_stamp.begin(), tl_s_stamp.end(), 0), std::fill(tl_reached_stamp.begin(), tl_reached_stamp.end(), 0), tl_epoch = 1;
+  // Plain pointers from here: the thread's storage is looked up once, not at every access.
+  double* const s = tl_s.data();
+  std::uint32_t* const s_stamp = tl_s_stamp.data();
+  std::uint32_t* const reached_stamp = tl_reached_stamp.data();
+  const std::uint32_t epoch = tl_epoch;
+  const Vec3* const vertices = m.vertices.data();
+  const auto* const triangles = m.triangles.data();
+  const std::uint32_t* const opposite = host.topology->opposite.data();
   auto dist = [&](std::uint32_t v) {
     if (s_stamp[v] != epoch) {
-      const double d = core::dot(m.vertices[v] - point, normal);
+      const double d = core::dot(vertices[v] - point, normal);
       s[v] = std::fabs(d) <= kOnPlaneMm ? 0.0 : d, s_stamp[v] = epoch;
     }
     return s[v];
   };
-  auto touches = [&](std::size_t f) { return dist(m.triangles[f][0]) > 0.0 || dist(m.triangles[f][1]) > 0.0 || dist(m.triangles[f][2]) > 0.0; };
+  auto touches = [&](std::size_t f) { return dist(triangles[f][0]) > 0.0 || dist(triangles[f][1]) > 0.0 || dist(triangles[f][2]) > 0.0; };
   std::vector<std::uint32_t> stack, reached;
   for (const std::uint32_t f : seeds) {
     if (reached_stamp[f] != epoch && touches(f)) reached_stamp[f] = epoch, stack.push_back(f), reached.push_back(f);
@@ -215,11 +223,11 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
     const std::uint32_t f = stack.back();
     stack.pop_back();
     for (std::uint32_t k = 0; k < 3; ++k) {
-      const std::uint32_t o = host.topology->opposite[3 * f + k];
+      const std::uint32_t o = opposite[3 * f + k];
       if (o == mesh::kNoHalfEdge) continue;
       const std::uint32_t g = o / 3;
       if (reached_stamp[g] == epoch || !touches(g)) continue;
-      if (std::max(dist(m.triangles[f][k]), dist(m.triangles[f][(k + 1) % 3])) <= 0.0) continue;  // the edge is not on the child side
+      if (std::max(dist(triangles[f][k]), dist(triangles[f][(k + 1) % 3])) <= 0.0) continue;  // the edge is not on the child side
       reached_stamp[g] = epoch;
       stack.push_back(g), reached.push_back(g);
     }
@@ -232,7 +240,7 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
   for (const std::uint32_t f : reached) {
     if (hf.area_mm2[f] == 0.0) continue;
     const Vec3 n = hf.normal[f];
-    const double sv[3] = {dist(m.triangles[f][0]), dist(m.triangles[f][1]), dist(m.triangles[f][2])};
+    const double sv[3] = {dist(triangles[f][0]), dist(triangles[f][1]), dist(triangles[f][2])};
     double in_child = hf.area_mm2[f];  // whole on the child side, else clipped at the plane
     if (sv[0] <= 0.0 || sv[1] <= 0.0 || sv[2] <= 0.0) {
       const Vec3 p[3] = {m.corner(f, 0), m.corner(f, 1), m.corner(f, 2)};
