@@ -153,14 +153,16 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
     // axes cannot keep up (the G-code writer's stall split), turned in place first and held along the
     // move, which also keeps clear of the plate and the table.
     auto strikes_at = [&](std::size_t i, Vec3 tip, Vec3 axis, const toolpath::PathPoint* before, Vec3 from_axis) {
+      // Over the move no head point comes nearer than the move's length plus the turn times its
+      // distance from the tip: clear with that margin, the move is clear, and the point with it
+      // (the wider check holds the narrower one: one search where most points are clear).
+      const Vec3 from = before != nullptr ? before->position_mm : tip;
+      const double turn = before != nullptr ? turn_rad(from_axis, axis) : 0.0;
+      const double length = core::norm(tip - from);
+      const bool broad = before != nullptr && length <= kBroadCheckMm && turn <= kBroadCheckRad;
+      if (broad && !deposit.strikes(tip, axis, i, margin + length, turn)) return false;
       if (deposit.strikes(tip, axis, i, margin)) return true;
       if (before == nullptr) return false;
-      const Vec3 from = before->position_mm;
-      // Over the move no head point comes nearer than the move's length plus the turn times its
-      // distance from the tip: clear with that margin, the move is clear.
-      const double turn = turn_rad(from_axis, axis);
-      const double length = core::norm(tip - from);
-      if (length <= kBroadCheckMm && turn <= kBroadCheckRad && !deposit.strikes(tip, axis, i, margin + length, turn)) return false;
       if (turn < 1e-6) return !clear_move_deposit(deposit, i, margin, from, axis, tip, axis);
       // The plate and the table, which each end's guard kept clear at its own tip only: on the way,
       // and turned in place where the turn is faster than the paths' own (smoothed) rate.
@@ -178,12 +180,20 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
       return guard_axis(machine, plan.build_model, reach, options.head_clearance_mm, options.retract_mm, tip, n, axis);
     };
     std::size_t flat = first[k];
-    for (toolpath::Path& path : plan.toolpaths[k].paths) {
-      for (toolpath::PathPoint& p : path.points) {
+    std::vector<toolpath::Path>& paths = plan.toolpaths[k].paths;
+    for (std::size_t j = 0; j < paths.size(); ++j) {
+      toolpath::Path& path = paths[j];
+      // A travel's ends take the axes of the points it joins (below); the move into a path after a
+      // travel is the travel, which the program routes clear of what is built (layer_travel) with
+      // the axis it turns through: the path's first point is checked alone.
+      const bool after_travel = j > 0 && paths[j - 1].kind == toolpath::PathKind::kTravel;
+      for (std::size_t m = 0; m < path.points.size(); ++m) {
+        toolpath::PathPoint& p = path.points[m];
         const std::size_t i = flat++;
-        toolpath::PathPoint* before = previous;
-        toolpath::PathPoint* before2 = previous2;
+        toolpath::PathPoint* before = m == 0 && after_travel ? nullptr : previous;
+        toolpath::PathPoint* before2 = m == 0 && after_travel ? nullptr : previous2;
         previous2 = previous, previous = &p;
+        if (path.kind == toolpath::PathKind::kTravel) continue;
         auto strikes = [&](Vec3 axis) { return strikes_at(i, p.position_mm, axis, before, before ? before->tool_axis : axis); };
         // Along the layer's normal a planar layer's head stays above everything its own region
         // laid before: only other regions' deposit above the layer's plane can be struck there, or
@@ -222,6 +232,13 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
           break;
         }
       }
+    }
+    // Each travel leaves with the axis of the point before it and arrives with that of the point
+    // after it, as eased.
+    for (std::size_t j = 0; j < paths.size(); ++j) {
+      if (paths[j].kind != toolpath::PathKind::kTravel || paths[j].points.empty()) continue;
+      if (j > 0 && !paths[j - 1].points.empty()) paths[j].points.front().tool_axis = paths[j - 1].points.back().tool_axis;
+      if (j + 1 < paths.size() && !paths[j + 1].points.empty()) paths[j].points.back().tool_axis = paths[j + 1].points.front().tool_axis;
     }
   });
   std::uint64_t eased = 0;

@@ -236,5 +236,43 @@ TEST(EaseTilts, TheHeadTurningBackFromATiltToTheNormalIsCheckedAndTheTiltEased) 
   }
 }
 
+
+TEST(EaseTilts, APathsFirstPointIsEasedAndTheTravelIntoItTakesTheEasedAxis) {
+  // A bead laid first 12 mm out along the torch at P1, the first point of a path after a travel,
+  // tilted 60° towards +X: the head there strikes it. The travel into P1 is routed by the program
+  // (layer_travel), so P1 is checked alone and eased towards the normal, and the travel arrives
+  // with P1's eased axis. Before, the travel's end (a copy of P1 as planned) was eased on its own,
+  // here to another axis than P1's, and the program turned the torch in place at the path's start,
+  // a turn no check had seen (the tuning fork decomposed on planar layers struck an arm so).
+  const machine::MachineConfig m = test::example_machine("ded5_ac");
+  const process::ProcessConfig p = test::default_process();
+  const Vec3 up{0, 0, 1}, tilted{std::sin(60.0 * kDeg), 0.0, std::cos(60.0 * kDeg)};
+  const Vec3 p1{0.0, 0.0, kLayerZ};
+  const Vec3 bead = p1 + tilted * 12.0;
+  Plan plan = turning_back_plan(m, p, bead);
+  toolpath::LayerToolpaths& lt = plan.toolpaths[0];
+  toolpath::Path path;
+  path.kind = toolpath::PathKind::kPerimeter;
+  path.points = {{p1, tilted, false}, {p1 - Vec3{3.0, 0.0, 0.0}, tilted, true}, {p1 - Vec3{6.0, 0.0, 0.0}, tilted, true}};
+  toolpath::Path travel;
+  travel.kind = toolpath::PathKind::kTravel;
+  travel.points = {lt.paths[0].points.back(), {p1, tilted, false}};
+  travel.points.back().deposit = false;
+  lt.paths = {lt.paths[0], travel, path};
+  const verify::DepositCheck deposit(plan.build_model, planned_points(plan), p.bead_width_mm);
+  const std::size_t first = 4;  // flat index of P1: the bead's two points, the travel's two
+  ASSERT_TRUE(deposit.strikes(p1, tilted, first, 0.0));
+  PlanOptions o;
+  ease_tilts(plan, m, o, deposit, p.bead_width_mm, 0.0);
+  const toolpath::Path& eased = plan.toolpaths[0].paths[2];
+  const Vec3 a = core::normalized(eased.points[0].tool_axis);
+  EXPECT_FALSE(deposit.strikes(p1, a, first, 0.0)) << a.x << " " << a.y << " " << a.z;
+  EXPECT_LT(std::acos(std::clamp(core::dot(a, up), -1.0, 1.0)), 60.0 * kDeg - 1e-6);
+  // The travel leaves with the bead's last axis and arrives with P1's, as eased.
+  const toolpath::Path& t = plan.toolpaths[0].paths[1];
+  EXPECT_EQ(t.points.front().tool_axis, plan.toolpaths[0].paths[0].points.back().tool_axis);
+  EXPECT_EQ(t.points.back().tool_axis, eased.points[0].tool_axis);
+}
+
 }  // namespace
 }  // namespace polyaxis::planner::detail
