@@ -475,7 +475,7 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   const double part_volume = std::abs(mesh::signed_volume(solid.mesh));
   for (const analysis::Region& r : tree.value().regions) {  // parents come before children
     if (supplied_by_plate(r, tree.value().regions.front(), process, part_volume)) {
-      c.warnings.push_back(fmt::format("region {} ({:.1f} mm3) lies in the substrate plate under the root's base: the plate supplies it "
+      c.warnings.push_back(fmt::format("region {} ({:.3g} mm3) lies in the substrate plate under the root's base: the plate supplies it "
                                        "(machine it from the plate), it is not deposited",
                                        r.id, r.volume_mm3));
       continue;
@@ -1331,8 +1331,9 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
   std::optional<Figures> outdone;
   auto planar = plan_part_as_asked(part, machine, process, planar_options, memo, clean(first.value()) ? &first_made : nullptr, &outdone);
   if (outdone) {
-    const Plan& kept = first.value().plan;
-    first.value().choice += fmt::format("; {} layers: {} mm2 unsupported, {} regions, {} reorientations against {}, {}, {} on planar layers (chosen, not programmed)",
+    // Both as chosen, as they were compared (relief may have added reorientations since).
+    const Figures& kept = first_made;
+    first.value().choice += fmt::format("; {} layers: {} mm2 unsupported, {} regions, {} reorientations as chosen against {}, {}, {} on planar layers (chosen, not programmed)",
                                         turned, area_text(kept.unsupported_area_mm2), kept.regions, kept.reorientations,
                                         area_text(outdone->unsupported_area_mm2), outdone->regions, outdone->reorientations);
     return first;

@@ -42,49 +42,6 @@ struct Edge {
 
 double distance(const Node& a, const Node& b) { return std::hypot(b.x - a.x, b.y - a.y); }
 
-// Douglas–Peucker on the chain POINTS[first..last] (mm, indices into a closed ring read cyclically):
-// marks in KEEP the points that hold it within TOLERANCE.
-void simplify(const std::vector<Kernel::Point_2>& points, std::size_t first, std::size_t last, double tolerance, std::vector<char>& keep) {
-  const std::size_t n = points.size();
-  std::vector<std::pair<std::size_t, std::size_t>> stack{{first, last}};
-  while (!stack.empty()) {
-    const auto [a, b] = stack.back();
-    stack.pop_back();
-    const Kernel::Point_2 &p = points[a % n], &q = points[b % n];
-    const double dx = q.x() - p.x(), dy = q.y() - p.y(), len = std::hypot(dx, dy);
-    double worst = -1.0;
-    std::size_t at = a;
-    for (std::size_t i = a + 1; i < b; ++i) {
-      const Kernel::Point_2& r = points[i % n];
-      const double d = len > 0.0 ? std::fabs(dx * (r.y() - p.y()) - dy * (r.x() - p.x())) / len : std::hypot(r.x() - p.x(), r.y() - p.y());
-      if (d > worst) worst = d, at = i;
-    }
-    if (worst <= tolerance) continue;
-    keep[at % n] = 1;
-    stack.push_back({a, at});
-    stack.push_back({at, b});
-  }
-}
-
-// The closed ring POINTS simplified to within TOLERANCE (mm): split at its first point and the
-// point farthest from it, each half by Douglas–Peucker.
-std::vector<Kernel::Point_2> simplified(const std::vector<Kernel::Point_2>& points, double tolerance) {
-  const std::size_t n = points.size();
-  std::size_t far = 0;
-  for (std::size_t i = 1; i < n; ++i) {
-    if (CGAL::squared_distance(points[i], points[0]) > CGAL::squared_distance(points[far], points[0])) far = i;
-  }
-  std::vector<char> keep(n, 0);
-  keep[0] = keep[far] = 1;
-  simplify(points, 0, far, tolerance, keep);
-  simplify(points, far, n, tolerance, keep);
-  std::vector<Kernel::Point_2> out;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (keep[i]) out.push_back(points[i]);
-  }
-  return out;
-}
-
 Node between(const Node& a, const Node& b, double t) { return {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.r + (b.r - a.r) * t}; }
 
 // The nodes and inner edges of the straight skeleton of the simple polygon POINTS (mm); empty
@@ -188,15 +145,15 @@ std::vector<Node> loop_round_hole(const std::vector<Kernel::Point_2>& outer, con
   return loop;
 }
 
-// The points of RING (units) in mm from ORIGIN, without repeats, simplified (kSimplifyMm).
+// The points of RING (units) simplified (kSimplifyMm, geom2d::simplified), in mm from ORIGIN,
+// without repeats.
 std::vector<Kernel::Point_2> outline(const geom2d::Ring& ring, geom2d::Point origin) {
   std::vector<Kernel::Point_2> points;
-  for (const geom2d::Point& p : ring) {
+  for (const geom2d::Point& p : geom2d::simplified(ring, kSimplifyMm)) {
     const Kernel::Point_2 q(geom2d::to_mm(p.x - origin.x), geom2d::to_mm(p.y - origin.y));
     if (points.empty() || q != points.back()) points.push_back(q);
   }
   while (points.size() > 1 && points.front() == points.back()) points.pop_back();
-  if (points.size() > 3) points = simplified(points, kSimplifyMm);
   return points;
 }
 
