@@ -5,6 +5,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "polyaxis/post/gcode.h"
 #include "reach.h"
 
 namespace polyaxis::planner::detail {
@@ -71,10 +72,11 @@ Vec3 joint_lerp(Vec3 a, Vec3 b, double u) {
   return {std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t)};
 }
 
-// The turn in place at P from axis A to B, as joints interpolate it, against the deposit only.
+// The turn in place at P from axis A to B, as joints interpolate it, against the deposit only: its
+// end (P, B) too, where the bead then starts (the point before, (P, A), is checked as a point).
 bool clear_turn_deposit(const verify::DepositCheck& deposit, std::size_t before, double margin_mm, Vec3 p, Vec3 a, Vec3 b) {
   const int pieces = std::max(1, static_cast<int>(std::ceil(turn_rad(a, b) * 180.0 / kPi / kTravelStepDeg)) * 2);
-  for (int k = 1; k < pieces; ++k) {
+  for (int k = 1; k <= pieces; ++k) {
     if (deposit.strikes(p, joint_lerp(a, b, static_cast<double>(k) / pieces), before, margin_mm)) return false;
   }
   return true;
@@ -127,7 +129,7 @@ std::vector<verify::PlannedPoint> planned_points(const Plan& plan) {
 }
 
 void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOptions& options, const verify::DepositCheck& deposit,
-                double bead_mm, double steady_turn_rad_per_mm) {
+                double bead_mm, double deposit_feed_mm_s) {
   const double reach = reach_rad(machine), margin = kDepositMarginBeads * bead_mm;
   const double tilted_cos = std::cos(kTiltedDeg * kPi / 180.0);
   const std::uint32_t root = plan.placed_regions.empty() ? 0 : plan.placed_regions.front().id;
@@ -152,7 +154,7 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
     // a layer's first point), against the deposit: the axis turning on the way, or, where the rotary
     // axes cannot keep up (the G-code writer's stall split), turned in place first and held along the
     // move, which also keeps clear of the plate and the table.
-    auto strikes_at = [&](std::size_t i, Vec3 tip, Vec3 axis, const toolpath::PathPoint* before, Vec3 from_axis) {
+    auto strikes_at = [&](std::size_t i, Vec3 tip, Vec3 axis, bool laid, const toolpath::PathPoint* before, Vec3 from_axis) {
       // Over the move no head point comes nearer than the move's length plus the turn times its
       // distance from the tip: clear with that margin, the move is clear, and the point with it
       // (the wider check holds the narrower one: one search where most points are clear).
@@ -164,16 +166,20 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
       if (deposit.strikes(tip, axis, i, margin)) return true;
       if (before == nullptr) return false;
       if (turn < 1e-6) return !clear_move_deposit(deposit, i, margin, from, axis, tip, axis);
-      // The plate and the table, which each end's guard kept clear at its own tip only: on the way,
-      // and turned in place where the turn is faster than the paths' own (smoothed) rate.
+      // The plate and the table, which each end's guard kept clear at its own tip only, and the
+      // deposit, on the way the program goes: where the writer's joints cannot keep the tip at the
+      // deposit feed it turns the torch in place with the process off, then lays the bead with the
+      // new axis (post::splits_stall, the writer's own rule; its turn in place is the axis along
+      // the great circle, or the joints' interpolation in one block: both are checked, and the
+      // turn's end, where the bead starts); elsewhere the tip moves and the axis turns together.
       const machine::BuildModel& model = plan.build_model;
-      if (!move_clear(model, options.head_clearance_mm, from, from_axis, tip, axis)) return true;
-      if (turn > steady_turn_rad_per_mm * length &&
-          (!move_clear(model, options.head_clearance_mm, from, from_axis, from, axis) || !move_clear(model, options.head_clearance_mm, from, axis, tip, axis))) {
-        return true;
+      const double clearance = options.head_clearance_mm;
+      if (laid && post::splits_stall(machine, from, from_axis, tip, axis, deposit_feed_mm_s)) {
+        return !move_clear(model, clearance, from, from_axis, from, axis) || !move_clear(model, clearance, from, axis, tip, axis) ||
+               !clear_move_deposit(deposit, i, margin, from, from_axis, from, axis) || !clear_turn_deposit(deposit, i, margin, from, from_axis, axis) ||
+               !clear_move_deposit(deposit, i, margin, from, axis, tip, axis);
       }
-      return !clear_move_deposit(deposit, i, margin, from, from_axis, tip, axis) || !clear_move_deposit(deposit, i, margin, from, from_axis, from, axis) ||
-             !clear_turn_deposit(deposit, i, margin, from, from_axis, axis) || !clear_move_deposit(deposit, i, margin, from, axis, tip, axis);
+      return !move_clear(model, clearance, from, from_axis, tip, axis) || !clear_move_deposit(deposit, i, margin, from, from_axis, tip, axis);
     };
     // AXIS turned up where the plate, the table or the reach need it (guard_axis); false where no turn does.
     auto guarded = [&](Vec3 tip, Vec3& axis) {
@@ -194,7 +200,7 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
         toolpath::PathPoint* before2 = m == 0 && after_travel ? nullptr : previous2;
         previous2 = previous, previous = &p;
         if (path.kind == toolpath::PathKind::kTravel) continue;
-        auto strikes = [&](Vec3 axis) { return strikes_at(i, p.position_mm, axis, before, before ? before->tool_axis : axis); };
+        auto strikes = [&](Vec3 axis) { return strikes_at(i, p.position_mm, axis, p.deposit, before, before ? before->tool_axis : axis); };
         // Along the layer's normal a planar layer's head stays above everything its own region
         // laid before: only other regions' deposit above the layer's plane can be struck there, or
         // the head turning back from a tilt on the move into the point (a travel between paths is
@@ -225,8 +231,8 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
         for (const double f : {0.25, 0.5, 0.75, 1.0}) {
           Vec3 axis = core::normalized(before->tool_axis * (1.0 - f) + n * f);
           if (!guarded(before->position_mm, axis)) continue;
-          if (strikes_at(i - 1, before->position_mm, axis, before2, before2 ? before2->tool_axis : axis)) continue;
-          if (strikes_at(i, p.position_mm, p.tool_axis, before, axis)) continue;
+          if (strikes_at(i - 1, before->position_mm, axis, before->deposit, before2, before2 ? before2->tool_axis : axis)) continue;
+          if (strikes_at(i, p.position_mm, p.tool_axis, p.deposit, before, axis)) continue;
           before->tool_axis = axis;
           ++plan.toolpaths[k].axes_eased;
           break;

@@ -24,11 +24,12 @@ std::vector<verify::PlannedPoint> planned_points(const Plan& plan);
 // the plate, the table and the reach clear (guard_axis); the first that clears, with the move into
 // the point from the path's point before it, is kept. The move into a point along the normal from
 // a tilted one is checked too (the head turning back), and where the point cannot turn, the point
-// before turns towards the normal. A move whose axis turns faster than STEADY_TURN_RAD_PER_MM (the
-// paths' smoothed rate) may be turned in place by the G-code writer (post/gcode.h, stall split):
-// both ways are checked. Counts go to the layers' toolpaths (axes_eased) and the plan (tilts_eased).
+// before turns towards the normal. A deposit move whose joints would hold the tip below the
+// writer's share of DEPOSIT_FEED_MM_S (post::splits_stall) is turned in place by the G-code writer
+// (post/gcode.h, stall split), and checked so; every other move is checked turning as it goes.
+// Counts go to the layers' toolpaths (axes_eased) and the plan (tilts_eased).
 void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOptions& options, const verify::DepositCheck& deposit,
-                double bead_mm, double steady_turn_rad_per_mm);
+                double bead_mm, double deposit_feed_mm_s);
 
 // The nozzle's radius: the wider of the cone's top and the cylinder (mm).
 double nozzle_radius_mm(const machine::NozzleModel& nozzle);

@@ -818,7 +818,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   // Tilts eased where the head would strike what is built before them, in build order; the support
   // check then judges the torch as it will be.
   const verify::DepositCheck deposit(plan.build_model, detail::planned_points(plan), process.bead_width_mm);
-  detail::ease_tilts(plan, machine, options, deposit, process.bead_width_mm, steady_turn_deg_per_mm(machine, process) * kPi / 180.0);
+  detail::ease_tilts(plan, machine, options, deposit, process.bead_width_mm, process.deposit_feed_mm_s);
   plan.times.sequence_s = since(t0);
   t0 = Clock::now();
   detail::check_support(plan, process);

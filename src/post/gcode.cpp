@@ -411,7 +411,7 @@ class ProgramWriter {
         const MachinePose at_pole = turn.value().back();
         auto along = machine::subdivide(m_, from.tip_part_mm, from.tool_axis_part, pt.tip_part_mm, pt.tool_axis_part, at_pole, tol_);
         if (along && !stalls(m_, at_pole, along.value(), pt.feed_mm_s)) {
-          ++stall_splits_;
+          ++stall_splits_, ++pole_splits_;
           switch_process(false);
           if (auto st = emit(turn.value(), o_.rapid_travel, p_.travel_feed_mm_s, where); !st) return st;
           poses = std::move(along);
@@ -446,6 +446,7 @@ class ProgramWriter {
   }
 
   std::uint64_t stall_splits() const { return stall_splits_; }
+  std::uint64_t pole_splits() const { return pole_splits_; }
 
   // Switches the process off, and the closing comments.
   void finish() {
@@ -486,7 +487,7 @@ class ProgramWriter {
   const double tol_;
   MachinePose prev_{};
   bool process_on_ = false;
-  std::uint64_t stall_splits_ = 0, unwinds_ = 0;
+  std::uint64_t stall_splits_ = 0, pole_splits_ = 0, unwinds_ = 0;
 };
 
 }  // namespace
@@ -532,12 +533,27 @@ core::Result<std::string> write_gcode(const machine::MachineConfig& machine, con
     return make_error(ErrorCode::kOutput, fmt::format("the program exceeds the output cap of {} bytes", options.max_output_bytes));
   }
   w.stats_.stall_splits = pw.stall_splits();
+  w.stats_.stall_splits_at_pole = pw.pole_splits();
   if (options.stats != nullptr) *options.stats = w.stats_;
   return w.take();
 }
 
 core::Status save_gcode(const std::string& path, std::string_view text) {
   return io::write_file_atomic(path, text, io::Durability::kSynced);
+}
+
+bool splits_stall(const machine::MachineConfig& m, Vec3 p0, Vec3 t0, Vec3 p1, Vec3 t1, double feed_mm_s, double chordal_mm) {
+  auto start = machine::inverse(m, p0, t0, nullptr);
+  if (!start) return false;
+  MachinePose prev = start.value();
+  if (singular(prev)) {
+    auto end = machine::inverse(m, p1, t1, &prev);
+    if (!end) return false;
+    prev.c_deg = end.value().c_deg;  // turned alone at the pole, the axes holding (move_to)
+    if (auto at = machine::joints_for_tip(m, p0, prev)) prev = *at;
+  }
+  auto poses = machine::subdivide(m, p0, t0, p1, t1, prev, chordal_mm * kSubdivisionShare);
+  return poses && stalls(m, prev, poses.value(), feed_mm_s);
 }
 
 }  // namespace polyaxis::post

@@ -47,6 +47,9 @@ struct GcodeStats {
   // Deposit moves split into a turn in place with the process off and the bead at the new axis
   // (split_stalls): each is a restart of the process, with its dwell.
   std::uint64_t stall_splits = 0;
+  // Of which C alone turned at the singular axis, where the torch holds its orientation over the
+  // part (the rest turn the torch in place: splits_stall).
+  std::uint64_t stall_splits_at_pole = 0;
   // A robot cell (post abb-rapid): what the robot's own inverse kinematics found along the program.
   std::uint64_t robot_targets = 0;          // robtargets written
   std::uint64_t robot_config_changes = 0;   // moves on which the arm changes configuration (cfx): joint moves, process off
@@ -83,6 +86,16 @@ struct GcodeOptions {
 // Deterministic: the same input gives the same bytes. Cost: linear in the number of blocks.
 core::Result<std::string> write_gcode(const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                       std::span<const ProgramPoint> points, const GcodeOptions& options = {});
+
+// True when write_gcode (split_stalls) would lay the deposit move from (P0, T0) to (P1, T1) at
+// FEED_MM_S as a turn of the tool in place at P0 with the process off, then the bead with T1: the
+// rotary or linear axes would hold the tip below the writer's guard share of the feed. The joints
+// start from the inverse kinematics of (P0, T0) (either branch turns the axes as far); at the
+// singular axis C first turns alone to the move's own, as the writer does (that split holds the
+// torch: GcodeStats::stall_splits_at_pole, false here). For the planner's checks, which must see
+// every turn of the torch in place that the program makes. False where an end is out of reach
+// (the writer reports that move). Cost: O(pieces) inverse/forward evaluations.
+bool splits_stall(const machine::MachineConfig& machine, core::Vec3 p0, core::Vec3 t0, core::Vec3 p1, core::Vec3 t1, double feed_mm_s, double chordal_mm = 0.01);
 
 // Writes TEXT to PATH atomically and synced (io::write_file_atomic, Durability::kSynced): no partial
 // file on failure (kOutput naming the path).

@@ -10,6 +10,7 @@
 #include "planner/reach.h"
 #include "polyaxis/machine/build_model.h"
 #include "polyaxis/planner/plan_part.h"
+#include "polyaxis/post/gcode.h"
 #include "polyaxis/verify/deposit_check.h"
 #include "support/meshes.h"
 #include "support/programs.h"
@@ -222,7 +223,7 @@ TEST(EaseTilts, TheHeadTurningBackFromATiltToTheNormalIsCheckedAndTheTiltEased) 
   EXPECT_FALSE(deposit.strikes(path.points[2].position_mm, up, p2, 0.0));
   EXPECT_TRUE(deposit.strikes(path.points[1].position_mm, mid, p2, 0.0));
   PlanOptions o;
-  ease_tilts(plan, m, o, deposit, p.bead_width_mm, 0.0);
+  ease_tilts(plan, m, o, deposit, p.bead_width_mm, p.deposit_feed_mm_s);
   EXPECT_GE(plan.tilts_eased, 1u);
   // Every axis on the way from P1's (eased) axis to the normal, at P1 and along the move: clear.
   const toolpath::Path& eased = plan.toolpaths[0].paths[1];
@@ -263,7 +264,7 @@ TEST(EaseTilts, APathsFirstPointIsEasedAndTheTravelIntoItTakesTheEasedAxis) {
   const std::size_t first = 4;  // flat index of P1: the bead's two points, the travel's two
   ASSERT_TRUE(deposit.strikes(p1, tilted, first, 0.0));
   PlanOptions o;
-  ease_tilts(plan, m, o, deposit, p.bead_width_mm, 0.0);
+  ease_tilts(plan, m, o, deposit, p.bead_width_mm, p.deposit_feed_mm_s);
   const toolpath::Path& eased = plan.toolpaths[0].paths[2];
   const Vec3 a = core::normalized(eased.points[0].tool_axis);
   EXPECT_FALSE(deposit.strikes(p1, a, first, 0.0)) << a.x << " " << a.y << " " << a.z;
@@ -272,6 +273,56 @@ TEST(EaseTilts, APathsFirstPointIsEasedAndTheTravelIntoItTakesTheEasedAxis) {
   const toolpath::Path& t = plan.toolpaths[0].paths[1];
   EXPECT_EQ(t.points.front().tool_axis, plan.toolpaths[0].paths[0].points.back().tool_axis);
   EXPECT_EQ(t.points.back().tool_axis, eased.points[0].tool_axis);
+}
+
+TEST(EaseTilts, WhereTheWriterTurnsTheTorchInPlaceTheTurnsEndIsChecked) {
+  // P0 along the normal, then a deposit move of 0.8 mm along −X to P1, tilted 45° towards +X: the
+  // rotary axes cannot turn so far over so short a bead, and the writer turns the torch in place
+  // at P0 with the process off, then lays the bead at P1's axis (post::splits_stall). A bead laid
+  // first just inside the head's reach at (P0, P1's axis), beyond the tilt (the turn meets it only
+  // at its end) and out of reach at P1: the move's samples, the turn's inside and P1 itself are
+  // clear, only the bead's start is not. Before, that pose was checked by nothing, and bumpy_82k's
+  // first program struck the layer below there, 0.2 mm deep (a relief round cleared it).
+  const machine::MachineConfig m = test::example_machine("ded5_ac");
+  const process::ProcessConfig p = test::default_process();
+  const double margin = kDepositMarginBeads * p.bead_width_mm;
+  const Vec3 up{0, 0, 1}, tilted{std::sin(45.0 * kDeg), 0.0, std::cos(45.0 * kDeg)};
+  const Vec3 p0{0.0, 0.0, kLayerZ}, p1 = p0 - Vec3{0.8, 0.0, 0.0};
+  ASSERT_TRUE(post::splits_stall(m, p0, up, p1, tilted, p.deposit_feed_mm_s));
+  // The bead 10 mm from P0 in the tilt's plane, BETA further from the normal than P1's axis.
+  auto plan_with_bead_at = [&](double beta_deg) {
+    const double a = (45.0 + beta_deg) * kDeg;
+    Plan plan = turning_back_plan(m, p, p0 + Vec3{std::sin(a), 0.0, std::cos(a)} * 10.0);
+    toolpath::Path& path = plan.toolpaths[0].paths[1];
+    path.points = {{p0, up, false}, {p1, tilted, true}};
+    return plan;
+  };
+  const std::size_t first = 2, second = 3;  // flat indices of P0 and P1 after the bead's two points
+  auto struck = [&](double beta_deg) {
+    const Plan plan = plan_with_bead_at(beta_deg);
+    const verify::DepositCheck deposit(plan.build_model, planned_points(plan), p.bead_width_mm);
+    return deposit.strikes(p0, tilted, second, margin);
+  };
+  // The widest angle at which the head there reaches the bead, to 0.01°.
+  double lo = 0.0, hi = 60.0;
+  ASSERT_TRUE(struck(lo));
+  ASSERT_FALSE(struck(hi));
+  while (hi - lo > 0.01) (struck(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
+  Plan plan = plan_with_bead_at(lo - 0.3);
+  const verify::DepositCheck deposit(plan.build_model, planned_points(plan), p.bead_width_mm);
+  ASSERT_TRUE(deposit.strikes(p0, tilted, second, margin));
+  EXPECT_FALSE(deposit.strikes(p0, up, first, margin));
+  EXPECT_FALSE(deposit.strikes(p1, tilted, second, margin));
+  for (int k = 1; k < 45; ++k) {  // the turn at P0, a degree apart, short of its end
+    const double w = k * kDeg;
+    EXPECT_FALSE(deposit.strikes(p0, up * std::cos(w) + Vec3{1, 0, 0} * std::sin(w), second, margin)) << k;
+  }
+  PlanOptions o;
+  ease_tilts(plan, m, o, deposit, p.bead_width_mm, p.deposit_feed_mm_s);
+  const Vec3 a = core::normalized(plan.toolpaths[0].paths[1].points[1].tool_axis);
+  EXPECT_GE(plan.tilts_eased, 1u);
+  EXPECT_LT(std::acos(std::clamp(core::dot(a, up), -1.0, 1.0)), 45.0 * kDeg - 1e-6);
+  EXPECT_FALSE(deposit.strikes(p0, a, second, margin)) << a.x << " " << a.y << " " << a.z;
 }
 
 }  // namespace

@@ -159,6 +159,44 @@ TEST(Gcode, SlowMachineGetsLowerFeedsNeverAboveItsLimits) {
   EXPECT_TRUE(any_rapid);
 }
 
+TEST(Gcode, SplitsStallSaysWhichDepositMovesTheWriterTurnsInPlace) {
+  // Two-point programs, a process-off start and one deposit move, over tilts from the vertical
+  // (the pole, where C turns alone first) to 60°, azimuth changes of 0 to 170°, move lengths of
+  // 0.05 to 20 mm, on table-tilt and head-tilt kinematics: post::splits_stall (the planner's view of the
+  // writer's rule) says the torch turns in place exactly where the writer turns it so (leaving the
+  // pole, C turning alone with the process off holds the torch: not a turn in place).
+  const process::ProcessConfig proc = default_process();
+  int split = 0, kept = 0;
+  for (const char* name : {"ded5_ac", "ded5_bc", "ded5_head_ac"}) {
+    const machine::MachineConfig m = example_machine(name);
+    for (const double t0 : {0.0, 15.0, 40.0}) {
+      for (const double t1 : {0.0, 5.0, 30.0, 60.0}) {
+        for (const double dphi : {0.0, 20.0, 90.0, 170.0}) {
+          for (const double length : {0.05, 0.8, 5.0, 20.0}) {
+            const double d = std::numbers::pi / 180.0;
+            const core::Vec3 a{std::sin(t0 * d), 0.0, std::cos(t0 * d)};
+            const core::Vec3 b{std::sin(t1 * d) * std::cos(dphi * d), std::sin(t1 * d) * std::sin(dphi * d), std::cos(t1 * d)};
+            const core::Vec3 p0{5.0, -3.0, 20.0}, p1 = p0 + core::Vec3{0.6, 0.8, 0.0} * length;
+            std::vector<ProgramPoint> points(2);
+            points[0].tip_part_mm = p0, points[0].tool_axis_part = a, points[0].feed_mm_s = proc.travel_feed_mm_s;
+            points[1].tip_part_mm = p1, points[1].tool_axis_part = b, points[1].feed_mm_s = proc.deposit_feed_mm_s;
+            points[1].process_on = true;
+            GcodeStats stats;
+            auto text = write_gcode(m, proc, points, GcodeOptions{.stats = &stats});
+            ASSERT_TRUE(text.ok()) << text.error().message;
+            const bool predicted = splits_stall(m, p0, a, p1, b, proc.deposit_feed_mm_s);
+            EXPECT_EQ(predicted, stats.stall_splits > stats.stall_splits_at_pole) << name << " tilt " << t0 << " -> " << t1 << " turning " << dphi << " over " << length << " mm";
+            (predicted ? split : kept) += 1;
+          }
+        }
+      }
+    }
+  }
+  // Both answers occur.
+  EXPECT_GT(split, 20);
+  EXPECT_GT(kept, 20);
+}
+
 // A bead leaving the vertical whose tilt grows to 40° toward +X, on a B/C machine whose B stops at
 // -10°: point by point, the first points' least-motion branch (B = -2°...) runs into the stop
 // part-way and would have to jump half a turn of C mid-bead. The branch search leaves the vertical
