@@ -134,6 +134,8 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
   const double tilted_cos = std::cos(kTiltedDeg * kPi / 180.0);
   const std::uint32_t root = plan.placed_regions.empty() ? 0 : plan.placed_regions.front().id;
   const double head_reach = nozzle_radius_mm(plan.build_model.nozzle);
+  // Where the program turns the torch in place is known for the LinuxCNC post (post::splits_stall).
+  const bool writer_rule = machine.post == machine::PostDialect::kLinuxCnc;
   // The deposit a point is checked against is the tips laid before it, which no easing moves, and
   // a move into a point depends on its layer's point before only: the layers are eased side by
   // side. FIRST: each layer's first point in the flat order.
@@ -172,13 +174,17 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
       // new axis (post::splits_stall, the writer's own rule; its turn in place is the axis along
       // the great circle, or the joints' interpolation in one block: both are checked, and the
       // turn's end, where the bead starts); elsewhere the tip moves and the axis turns together.
+      // The other posts split by rules of their own: there a deposit move is checked both ways.
       const machine::BuildModel& model = plan.build_model;
       const double clearance = options.head_clearance_mm;
-      if (laid && post::splits_stall(machine, from, from_axis, tip, axis, deposit_feed_mm_s)) {
-        return !move_clear(model, clearance, from, from_axis, from, axis) || !move_clear(model, clearance, from, axis, tip, axis) ||
-               !clear_move_deposit(deposit, i, margin, from, from_axis, from, axis) || !clear_turn_deposit(deposit, i, margin, from, from_axis, axis) ||
-               !clear_move_deposit(deposit, i, margin, from, axis, tip, axis);
+      const bool in_place = laid && (!writer_rule || post::splits_stall(machine, from, from_axis, tip, axis, deposit_feed_mm_s));
+      if (in_place &&
+          (!move_clear(model, clearance, from, from_axis, from, axis) || !move_clear(model, clearance, from, axis, tip, axis) ||
+           !clear_move_deposit(deposit, i, margin, from, from_axis, from, axis) || !clear_turn_deposit(deposit, i, margin, from, from_axis, axis) ||
+           !clear_move_deposit(deposit, i, margin, from, axis, tip, axis))) {
+        return true;
       }
+      if (in_place && writer_rule) return false;
       return !move_clear(model, clearance, from, from_axis, tip, axis) || !clear_move_deposit(deposit, i, margin, from, from_axis, tip, axis);
     };
     // AXIS turned up where the plate, the table or the reach need it (guard_axis); false where no turn does.

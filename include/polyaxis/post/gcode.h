@@ -87,7 +87,8 @@ struct GcodeOptions {
 core::Result<std::string> write_gcode(const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                       std::span<const ProgramPoint> points, const GcodeOptions& options = {});
 
-// True when write_gcode (split_stalls) would lay the deposit move from (P0, T0) to (P1, T1) at
+// True when write_gcode (split_stalls; the LinuxCNC post, machine::PostDialect::kLinuxCnc: the
+// other posts split by rules of their own) would lay the deposit move from (P0, T0) to (P1, T1) at
 // FEED_MM_S as a turn of the tool in place at P0 with the process off, then the bead with T1: the
 // rotary or linear axes would hold the tip below the writer's guard share of the feed. The joints
 // start from the inverse kinematics of (P0, T0) (either branch turns the axes as far); at the
