@@ -4,7 +4,8 @@
 
 namespace polyaxis::app {
 
-// When an argument names a file of 16 MiB or more, the kernel gives huge pages on request only
+// When an argument names a file of 16 MiB or more or the command is `plan` (whose program and its
+// read-back run to hundreds of MB whatever the mesh's size), the kernel gives huge pages on request only
 // (transparent_hugepage "madvise", Debian's default) and glibc's malloc has not been told either
 // way, re-executes this program with GLIBC_TUNABLES glibc.malloc.hugetlb=1 added, so that malloc
 // asks for them (inspect of a 1.3M-triangle mesh: 608 -> 513 ms; the re-execution costs about

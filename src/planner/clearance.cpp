@@ -153,9 +153,9 @@ void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOpt
     const bool exposed = plan.region_of_layer[k] != root && others_above(plan, k, head_reach);
     auto is_tilted = [&](const toolpath::PathPoint& q) { return core::dot(core::normalized(q.tool_axis), n) < tilted_cos; };
     // The point I at TIP with AXIS, and the move into it from BEFORE (its axis FROM_AXIS; none for
-    // a layer's first point), against the deposit: the axis turning on the way, or, where the rotary
-    // axes cannot keep up (the G-code writer's stall split), turned in place first and held along the
-    // move, which also keeps clear of the plate and the table.
+    // a layer's first point; LAID: the move deposits), against the deposit: the axis turning on the
+    // way, or, where the rotary axes cannot keep up (the G-code writer's stall split), turned in
+    // place first and held along the move, which also keeps clear of the plate and the table.
     auto strikes_at = [&](std::size_t i, Vec3 tip, Vec3 axis, bool laid, const toolpath::PathPoint* before, Vec3 from_axis) {
       // Over the move no head point comes nearer than the move's length plus the turn times its
       // distance from the tip: clear with that margin, the move is clear, and the point with it

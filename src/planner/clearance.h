@@ -28,8 +28,7 @@ std::vector<verify::PlannedPoint> planned_points(const Plan& plan);
 // writer's share of DEPOSIT_FEED_MM_S (post::splits_stall) is turned in place by the G-code writer
 // (post/gcode.h, stall split), and checked so; every other move is checked turning as it goes. On
 // the other posts (machine.post), which split by rules of their own, a deposit move is checked
-// both ways.
-// Counts go to the layers' toolpaths (axes_eased) and the plan (tilts_eased).
+// both ways. Counts go to the layers' toolpaths (axes_eased) and the plan (tilts_eased).
 void ease_tilts(Plan& plan, const machine::MachineConfig& machine, const PlanOptions& options, const verify::DepositCheck& deposit,
                 double bead_mm, double deposit_feed_mm_s);
 
