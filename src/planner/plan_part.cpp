@@ -1333,8 +1333,8 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
   if (outdone) {
     // Both as chosen, as they were compared (relief may have added reorientations since).
     const Figures& kept = first_made;
-    first.value().choice += fmt::format("; {} layers: {} mm2 unsupported, {} regions, {} reorientations as chosen against {}, {}, {} on planar layers (chosen, not programmed)",
-                                        turned, area_text(kept.unsupported_area_mm2), kept.regions, kept.reorientations,
+    first.value().choice += fmt::format("; {} layers: {} mm2 unsupported, {} region{}, {} reorientations as chosen against {}, {}, {} on planar layers (chosen, not programmed)",
+                                        turned, area_text(kept.unsupported_area_mm2), kept.regions, kept.regions == 1 ? "" : "s", kept.reorientations,
                                         area_text(outdone->unsupported_area_mm2), outdone->regions, outdone->reorientations);
     return first;
   }
@@ -1342,8 +1342,8 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
   const bool take_planar = clean(planar.value()) != clean(first.value()) ? clean(planar.value()) : better(planar.value().plan, first.value().plan);
   PlanPartResult& kept = take_planar ? planar.value() : first.value();
   const PlanPartResult& other = take_planar ? first.value() : planar.value();
-  const std::string versus = fmt::format("{} mm2 unsupported, {} regions, {} reorientations against {}, {}, {} on {} layers",
-                                         area_text(kept.plan.unsupported_area_mm2), kept.plan.regions, kept.plan.reorientations,
+  const std::string versus = fmt::format("{} mm2 unsupported, {} region{}, {} reorientations against {}, {}, {} on {} layers",
+                                         area_text(kept.plan.unsupported_area_mm2), kept.plan.regions, kept.plan.regions == 1 ? "" : "s", kept.plan.reorientations,
                                          area_text(other.plan.unsupported_area_mm2), other.plan.regions, other.plan.reorientations,
                                          take_planar ? turned : "planar");
   kept.choice += fmt::format("; {} layers: {}", take_planar ? "planar" : turned, versus);

@@ -60,7 +60,7 @@ export function buildPanel(root, data, colorOf, extra) {
   const shown = toolpath.shown !== toolpath.total
     ? `${fmtNum(toolpath.shown)} of ${fmtNum(toolpath.total)} toolpath points shown`
     : `${fmtNum(toolpath.n)} toolpath points`;
-  left.append(el('div', { class: 'px-sub', text: `${regions.length} regions · ${layers.length} layers · ${shown}` }));
+  left.append(el('div', { class: 'px-sub', text: `${regions.length} region${regions.length === 1 ? '' : 's'} · ${layers.length} layer${layers.length === 1 ? '' : 's'} · ${shown}` }));
 
   // layer slider
   left.append(el('h2', { text: 'Layer' }));
