@@ -217,7 +217,22 @@ struct ExactRules {
   bool keep_base = false;         // a child with facets on the host's base is refused
   detail::DirectionCone reach;    // the child's build direction stays inside it
   double min_thickness_mm = 0.0;  // a piece thinner than this on average is refused (is_film)
+  // DecomposeOptions::least_height_mm (null or empty: not checked), over the plane (PLATE_POINT, UP):
+  // a child reaching below the height its direction needs is refused.
+  const std::function<double(double)>* least_height = nullptr;
+  Vec3 plate_point, up{0, 0, 1};
 };
+
+// Whether the head can lay CHILD, built along unit DIRECTION, with RULES' plate under it: every
+// vertex at least the height the direction needs above the plate (kOnBaseMm spared).
+bool head_clears_plate(const mesh::Mesh& child, Vec3 direction, const ExactRules& rules) {
+  if (rules.least_height == nullptr || !*rules.least_height) return true;
+  const Vec3 up = core::normalized(rules.up);
+  const double need = (*rules.least_height)(std::acos(std::clamp(core::dot(direction, up), -1.0, 1.0)));
+  if (need <= kOnBaseMm) return true;
+  return std::all_of(child.vertices.begin(), child.vertices.end(),
+                     [&](const Vec3& v) { return core::dot(v - rules.plate_point, up) >= need - kOnBaseMm; });
+}
 
 // Whether PIECE is thinner on average than kFilmShare · MIN_THICKNESS_MM: twice its volume over its
 // surface, which is a slab's thickness and less for any other shape of that volume and surface.
@@ -251,6 +266,7 @@ std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 norma
     }
     const std::vector<detail::FacetSample> facets = detail::facet_samples(child, point, normal);
     out.direction = detail::best_direction(facets, normal, starts, alpha_deg, 0.25, rules.reach);
+    if (!head_clears_plate(child, out.direction, rules)) return std::nullopt;
     if (rules.child_must_stand && detail::unsupported(child, out.direction, alpha_deg, point, normal) > 0.0) return std::nullopt;
     return pick;
   });
@@ -400,6 +416,8 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
     root.base_point = up * lowest;
   }
   tree.regions.push_back(std::move(root));
+  // The plate the root stands on, which the head must keep clear of (DecomposeOptions::least_height_mm).
+  const Vec3 plate_point = tree.regions.front().base_point, plate_up = up;
   for (mesh::Mesh& h : hanging) {
     Region r;
     r.id = static_cast<std::uint32_t>(tree.regions.size());
@@ -527,7 +545,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
       const Candidate& c = best_candidates[k];
       if (!spend(kExactCutVisitsPerFacet * static_cast<double>(tree.regions[host].mesh.triangles.size()))) break;
       const Vec3 starts[] = {c.normal, s.dir, s.branch_dir, c.screened.child_direction};
-      auto e = exact_split(tree.regions[host], c.point, c.normal, s.targets, starts, alpha, ExactRules{false, false, reach, options.min_region_mm});
+      auto e = exact_split(tree.regions[host], c.point, c.normal, s.targets, starts, alpha, ExactRules{false, false, reach, options.min_region_mm, &options.least_height_mm, plate_point, plate_up});
       if (e && e->unsupported_mm2 < overhang[host] - kMinGainMm2 && (!chosen || e->unsupported_mm2 < chosen->unsupported_mm2)) {
         chosen = std::move(e), used = &best_candidates[k];
         // The cut confirms the estimate: the later candidates were estimated no better.
@@ -568,7 +586,7 @@ core::Result<RegionTree> decompose(const mesh::Mesh& mesh, const CentroidalAxis&
           if (c.screened.total() >= overhang[host] - kMinGainMm2) break;
           if (!spend(kExactCutVisitsPerFacet * static_cast<double>(h.mesh.triangles.size()))) break;
           const Vec3 starts[] = {c.normal, c.screened.child_direction};
-          auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, ExactRules{true, hr.keep_base, reach, options.min_region_mm});
+          auto e = exact_split(h, c.point, c.normal, targets, starts, alpha, ExactRules{true, hr.keep_base, reach, options.min_region_mm, &options.least_height_mm, plate_point, plate_up});
           // A child that starts nowhere in mid-air first, then the least overhang left.
           auto better = [&](const ExactSplit& x, const ExactSplit& y) {
             return (x.child_mid_air == 0) != (y.child_mid_air == 0) ? x.child_mid_air == 0 : x.unsupported_mm2 < y.unsupported_mm2;

@@ -755,6 +755,15 @@ Placement rotation_to_z(Vec3 d) {
   return p;
 }
 
+void measure_plan_fidelity(Plan& plan, const process::ProcessConfig& process) {
+  const auto t0 = Clock::now();
+  double deposited_volume = 0.0;
+  for (const PlanRegion& r : plan.placed_regions) deposited_volume += r.prebuilt ? 0.0 : std::abs(mesh::signed_volume(r.mesh));
+  detail::measure_fidelity(plan, deposited_volume, kConformalEdgeBeads * process.bead_width_mm);
+  plan.fidelity.measured = true;
+  plan.times.fidelity_s += since(t0);
+}
+
 core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                              const PlanOptions& options, const std::vector<PlanRegion>& given_regions) {
   Plan plan;
@@ -823,11 +832,7 @@ core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::Mach
   t0 = Clock::now();
   detail::check_support(plan, process);
   plan.times.support_s = since(t0);
-  t0 = Clock::now();
-  double deposited_volume = 0.0;
-  for (const PlanRegion& r : regions) deposited_volume += r.prebuilt ? 0.0 : std::abs(mesh::signed_volume(r.mesh));
-  detail::measure_fidelity(plan, deposited_volume, kConformalEdgeBeads * process.bead_width_mm);
-  plan.times.fidelity_s = since(t0);
+  if (options.measure_fidelity) measure_plan_fidelity(plan, process);
   // On a prebuilt part the first bead rests on its surface (the read-back check judges that).
   if (!has_prebuilt(regions)) {
     if (auto s = first_deposit_on_plate(plan, process); !s) return s.error();

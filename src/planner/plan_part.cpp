@@ -121,9 +121,9 @@ class PartMemo {
   }
 
   // The decomposition of the solid (analysis::decompose) under AXIS and OPTIONS, made once for each
-  // root (every option but `stop` keys it: the machine and process are the same for one part). The
-  // choice on planar layers asks for the same trees as the choice on automatic ones. A run that was
-  // stopped is not kept; two lanes asking for one root at once may both make it (the same tree).
+  // root (every option but `stop` and `least_height_mm` keys it: the machine and process, which fix
+  // the latter, are the same for one part). The choice on planar layers asks for the same trees as
+  // the choice on automatic ones. A run that was stopped is not kept; two lanes asking for one root at once may both make it (the same tree).
   core::Result<analysis::RegionTree> decomposition(const mesh::Mesh& solid, const analysis::CentroidalAxis& axis,
                                                    const analysis::DecomposeOptions& options) {
     const analysis::RootBase& b = options.root_base;
@@ -433,6 +433,9 @@ core::Result<Candidate> plan_decomposed(const mesh::RepairedMesh& part, const ma
   dopt.work_budget_facet_visits = o.decompose_budget_facet_visits;
   dopt.reach_deg = detail::direction_reach_rad(machine, process) * 180.0 / std::numbers::pi;
   dopt.min_region_mm = process.layer_min_mm;
+  dopt.least_height_mm = [&machine, &process, clearance = o.plan.head_clearance_mm](double tilt_rad) {
+    return detail::least_layable_height_mm(machine, process, tilt_rad, clearance);
+  };
   dopt.stop = stop;
   auto tree = memo.decomposition(solid.mesh, axis.value(), dopt);
   if (!tree) return tree.error();
@@ -694,16 +697,25 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
     why = fmt::format("nothing could be planned: {}", fmt::join(refused, "; "));
     return core::make_error(first_code.value_or(core::ErrorCode::kInfeasible), why);
   }
-  auto summary = [](const Plan& p) {
-    return fmt::format("{} region{}, {}", p.regions, p.regions == 1 ? "" : "s",
-                       p.unsupported_area_mm2 == 0.0 ? std::string("support-free") : fmt::format("{} mm2 unsupported", area_text(p.unsupported_area_mm2)));
+  // Where a candidate ties with the best on area and regions, better() ranked them on
+  // reorientations: both then say how many.
+  auto ties = [&](std::size_t i) {
+    const Figures a = Figures::of(plan_of(i)), b = Figures::of(plan_of(*best));
+    return std::abs(a.unsupported_area_mm2 - b.unsupported_area_mm2) <= kUnsupportedNoiseMm2 && a.regions == b.regions;
+  };
+  bool any_tie = false;
+  for (std::size_t i = 0; i < taken; ++i) any_tie = any_tie || (i != *best && made[i] && made[i]->ok() && ties(i));
+  auto summary = [](const Plan& p, bool with_turns) {
+    return fmt::format("{} region{}, {}{}", p.regions, p.regions == 1 ? "" : "s",
+                       p.unsupported_area_mm2 == 0.0 ? std::string("support-free") : fmt::format("{} mm2 unsupported", area_text(p.unsupported_area_mm2)),
+                       with_turns ? fmt::format(", {} reorientations", p.reorientations) : std::string());
   };
   // The candidates it did better than, with what they would have left.
   std::vector<std::string> outdone;
   for (std::size_t i = 0; i < taken; ++i) {
-    if (i != *best && made[i] && made[i]->ok()) outdone.push_back(fmt::format("{}: {}", label(i), summary(plan_of(i))));
+    if (i != *best && made[i] && made[i]->ok()) outdone.push_back(fmt::format("{}: {}", label(i), summary(plan_of(i), ties(i))));
   }
-  why = fmt::format("{} ({}{}{})", label(*best), summary(plan_of(*best)),
+  why = fmt::format("{} ({}{}{})", label(*best), summary(plan_of(*best), any_tie),
                     outdone.empty() ? "" : fmt::format("; also tried: {}", fmt::join(outdone, "; ")),
                     refused.empty() ? "" : fmt::format("; refused: {}", fmt::join(refused, "; ")));
   return std::move(made[*best]->value());
@@ -1110,6 +1122,7 @@ bool take_redirected(const mesh::RepairedMesh& part, const machine::MachineConfi
 // naming the first collisions unless OPTIONS allow them.
 core::Result<PlanPartResult> finished(PlanPartResult out, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                                       const PlanPartOptions& options) {
+  if (!out.plan.fidelity.measured) measure_plan_fidelity(out.plan, process);
   const Plan& plan = out.plan;
   // Catalogue O3: a linear maximum below the process's feeds slows moves below the planned feed
   // (F100 on every move): a warning with the count. Slowing where the rotary axes turn (and the
@@ -1313,6 +1326,8 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
                                                 const process::ProcessConfig& process, const PlanPartOptions& asked) {
   PlanPartOptions options = asked;
   if (options.gcode.part == nullptr) options.gcode.part = &part.mesh;  // the posts that carry the part (3MF toolpath)
+  // Of the many plans a choice makes, only the one it returns is measured (finished()).
+  options.plan.measure_fidelity = false;
   PartMemo memo(part);
   Figures first_made;
   auto first = plan_part_as_asked(part, machine, process, options, memo, nullptr, nullptr, &first_made);

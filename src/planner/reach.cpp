@@ -20,6 +20,9 @@ constexpr double kReachSlackRad = 1e-9;
 // Axes turned round within the reach keep this far inside it, and turn at most this far a step, radians.
 constexpr double kReachInsideRad = 0.05 * kPi / 180.0;
 constexpr double kReachStepRad = 1.0 * kPi / 180.0;
+// least_layable_height_mm's plate: under a footprint this far each way from the plate's middle, mm
+// (wider than any head).
+constexpr double kWideFootprintMm = 500.0;
 
 double angle(Vec3 a, Vec3 b) { return std::atan2(core::norm(core::cross(a, b)), core::dot(a, b)); }
 
@@ -118,6 +121,17 @@ double direction_reach_rad(const machine::MachineConfig& m, const process::Proce
   const double tilt = reach_rad(m);
   if (!machine::tilts_head(m.kind)) return tilt;
   return std::min(tilt, process.off_vertical_max_deg * kPi / 180.0);
+}
+
+double least_layable_height_mm(const machine::MachineConfig& m, const process::ProcessConfig& process, double tilt_rad, double clearance_mm) {
+  // The plate under a footprint wider than the head (the process's size when it gives one): the
+  // head over the plate's top, not beyond its edge, where the table lies lower.
+  const machine::BuildModel model = machine::make_build_model(m, process, -kWideFootprintMm, -kWideFootprintMm, kWideFootprintMm, kWideFootprintMm);
+  const double tilt = std::max(0.0, tilt_rad - toolpath::kMaxTiltRad);
+  const machine::SubstratePlate& plate = model.substrate;
+  const Vec3 tip{(plate.x_min_mm + plate.x_max_mm) / 2.0, (plate.y_min_mm + plate.y_max_mm) / 2.0, plate.top_z_mm};
+  const double clear = machine::head_clearance_mm(model, tip, {std::sin(tilt), 0.0, std::cos(tilt)});
+  return std::isfinite(clear) ? std::max(0.0, clearance_mm - clear) : 0.0;
 }
 
 core::Status check_region_reach(const std::vector<PlanRegion>& placed, const machine::MachineConfig& m, const process::ProcessConfig& process) {

@@ -25,6 +25,15 @@ double reach_rad(const machine::MachineConfig& machine);
 // A 3-axis machine: 0.
 double direction_reach_rad(const machine::MachineConfig& machine, const process::ProcessConfig& process);
 
+// The least height (mm) of a tip above the plate's top at which the head keeps CLEARANCE_MM above
+// the plate while laying a region built TILT_RAD from the table's +Z: its axis as near upright as
+// the layer normal allows (tilted max(0, TILT_RAD − toolpath::kMaxTiltRad)), the tip over the
+// plate's middle; 0 where the head clears the plate with the tip on it. The decomposition refuses
+// regions that reach lower (analysis::DecomposeOptions::least_height_mm). Cost: one clearance
+// evaluation.
+double least_layable_height_mm(const machine::MachineConfig& machine, const process::ProcessConfig& process, double tilt_rad,
+                               double clearance_mm);
+
 // kMachineLimit naming the first placed region whose build direction is beyond
 // direction_reach_rad of +Z, with the tilt it needs, the limit (the tilt axis's, or on a head-head
 // machine the process's off_vertical_max_deg) and what would make it reachable.

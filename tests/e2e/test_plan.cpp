@@ -565,6 +565,43 @@ TEST(PlanTurnedOver, BridgesStandOnTheirSlabInOneRegion) {
   }
 }
 
+// A torus lying flat is the same part turned over: upright and turned over leave the same area in
+// one region each, and better() ranks them on reorientations. The reason then says how many each
+// has, so a reader sees what decided (an unseen leaning vase was chosen turned over on that tie,
+// with no figure in the reason that told it).
+TEST(PlanAuto, ACandidateThatTiesOnAreaAndRegionsShowsTheReorientationsThatDecided) {
+  TempDir dir;
+  for (const auto& [major, minor, n, m] : {std::tuple{14.0, 5.0, 48u, 24u}, std::tuple{20.0, 6.5, 64u, 20u}}) {
+    const auto out = dir / fmt::format("torus_{}", major);
+    std::filesystem::create_directories(out);
+    const auto part = out / "torus.stl";
+    std::ofstream(part, std::ios::binary) << binary_stl(torus(major, minor, n, m));
+    const auto plan = run_cli("plan '" + part.string() + "' -o '" + out.string() + "' --no-html");
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const std::string reason = read_json(out / "report.json")["strategy_reason"].get<std::string>();
+    // Each candidate's figures: "N region(s), A mm2 unsupported" or "support-free", then maybe ", R reorientations".
+    const std::regex figures(R"(([0-9]+) regions?, (support-free|[0-9.]+ mm2 unsupported)(, [0-9]+ reorientations)?)");
+    struct Seen {
+      std::string regions, area;
+      bool turns;
+    };
+    std::vector<Seen> seen;
+    const std::string tried = reason.substr(0, reason.find("; refused"));
+    for (auto it = std::sregex_iterator(tried.begin(), tried.end(), figures); it != std::sregex_iterator(); ++it) {
+      seen.push_back({(*it)[1].str(), (*it)[2].str(), (*it)[3].matched});
+    }
+    ASSERT_GE(seen.size(), 2u) << reason;
+    bool tie = false;
+    for (std::size_t i = 1; i < seen.size(); ++i) {
+      const bool ties = seen[i].regions == seen[0].regions && seen[i].area == seen[0].area;
+      tie = tie || ties;
+      EXPECT_EQ(seen[i].turns, ties) << reason;
+    }
+    EXPECT_TRUE(tie) << reason;
+    EXPECT_TRUE(seen[0].turns) << reason;
+  }
+}
+
 TEST(PlanDecomposed, FiveWallsWhoseOnlyDecompositionCollidesExitFourNamingThePlace) {
   // On a plate reaching under the walls (120 mm square) the default head (a cylinder of radius
   // 25 mm 20 mm above the tip) cannot lay the walls' lowest corners, 5 mm above it: tilted up

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -94,6 +95,12 @@ struct DecomposeOptions {
   // The least thickness a region can be deposited with, mm (the process's least layer): a cut
   // leaving a piece thinner than this on average (a film of a face) is refused.
   double min_region_mm = 0.3;
+  // The head against the plate: the least height (mm) above the root's base plane, along the root's
+  // direction, at which the head can lay a region built at the given angle (radians) from the
+  // root's direction. A split whose child reaches lower would bring the head down onto the plate:
+  // it is refused. Null: the head is not considered (planner::plan_part sets it from the machine's
+  // head, src/planner/reach.h least_layable_height_mm).
+  std::function<double(double)> least_height_mm;
   // Set (by another thread) when the result is no longer wanted: the decomposition ends at its
   // next piece of work, as if its budget were spent. Null: it runs to its end.
   const std::atomic<bool>* stop = nullptr;
@@ -126,6 +133,8 @@ inline constexpr double kExactCutVisitsPerFacet = 2000.0;
 //  * What the links leave is cut off patch by patch (largest first) into regions of their own,
 //    along a direction in which the patch and its whole child stand, when that removes overhang
 //    (rule "overhang patch"; src/analysis/patch_split.h). The plate is never taken.
+//  * With options.least_height_mm, a split whose child reaches below the height at which the head
+//    can lay it along its direction is refused (a column's half built sideways down to the plate).
 // Regions partition MESH (volumes sum to its volume) and are closed; they come in build order:
 // each after its parent and every region its base lies on (rests_on). A region that stays unsupported says so (support_free false, its area). Cost: O(F) per
 // candidate screened plus one or a few CGAL cuts per region made; milliseconds for the reference parts.

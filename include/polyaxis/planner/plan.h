@@ -63,6 +63,9 @@ struct PlanOptions {
   // part's frame: the base of their conformal layers, in place of a prebuilt part's surface. Set by
   // plan_part for branches grown on their trunk; null otherwise.
   std::shared_ptr<const mesh::Mesh> trunk;
+  // False: make_plan leaves Plan::fidelity unmeasured (measure_plan_fidelity measures it later).
+  // The automatic choice's candidates are made so: only the chosen one is measured.
+  bool measure_fidelity = true;
 };
 
 // Support check (SPEC §3): a layer's area outside the layer below grown by t·tan(α), where α is
@@ -218,6 +221,7 @@ struct Fidelity {
   double max_cusp_mm = 0.0;              // the largest staircase height
   double volume_difference_mm3 = 0.0;    // the symmetric difference between the deposited layers and the part
   double volume_difference_share = 0.0;  // of the part's volume
+  bool measured = false;                 // false: not measured yet (PlanOptions::measure_fidelity)
 };
 
 struct Plan {
@@ -304,5 +308,10 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
 // Errors: bad options (kUsage), nothing to build (kInfeasible).
 core::Result<Plan> make_plan(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
                              const PlanOptions& options, const std::vector<PlanRegion>& regions = {});
+
+// Measures PLAN.fidelity (planner/fidelity.h) against its placed regions, the prebuilt ones left
+// out, and adds the time to PLAN.times.fidelity_s. make_plan calls it unless
+// PlanOptions::measure_fidelity is false.
+void measure_plan_fidelity(Plan& plan, const process::ProcessConfig& process);
 
 }  // namespace polyaxis::planner

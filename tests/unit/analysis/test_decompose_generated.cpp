@@ -3,6 +3,7 @@
 // the part, support-free regions.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -89,6 +90,49 @@ TEST(DecomposeGenerated, DirectionsStayWithinTheReach) {
       expect_support_free(tree.value());
     } else {
       EXPECT_EQ(tree.value().regions.size(), 1u);
+    }
+  }
+}
+
+// With the head against the plate given (DecomposeOptions::least_height_mm), no child reaches
+// below the height at which the head can lay it. The head here is the default machine's: a
+// cylinder of radius 25 mm from 20 mm up its axis, the axis at most 60° from the layer's normal,
+// 0.5 mm above the plate. Without the rule the candelabra's column is cut lengthwise and a half
+// built downwards from the top (118° from the root) down to the foot, where that head cannot reach.
+TEST(DecomposeGenerated, NoChildReachesBelowWhereTheHeadCanLayItOverThePlate) {
+  auto read = io::read_part(std::string(POLYAXIS_CORPUS_DIR) + "/branches/candelabra.stl");
+  ASSERT_TRUE(read.ok());
+  const auto part = repaired(std::move(read.value().mesh));
+  CentroidalAxisOptions ao;
+  ao.start_direction = {0, 0, 1};
+  auto axis = centroidal_axis(part.mesh, part.topology, ao);
+  ASSERT_TRUE(axis.ok());
+  auto least_height = [](double tilt_rad) {
+    const double t = std::max(0.0, tilt_rad - 60.0 * kTestPi / 180.0);
+    return std::max(0.0, 0.5 - (20.0 * std::cos(t) - 25.0 * std::sin(t)));
+  };
+  // The lowest child's shortfall: how far below the height its direction needs it reaches.
+  auto shortfall = [&](const RegionTree& tree) {
+    double worst = 0.0;
+    for (const Region& r : tree.regions) {
+      if (!r.parent) continue;
+      const double need = least_height(angle_between_deg(r.build_direction, {0, 0, 1}) * kTestPi / 180.0);
+      for (const Vec3& v : r.mesh.vertices) worst = std::max(worst, need - v.z);
+    }
+    return worst;
+  };
+  for (const bool with_head : {false, true}) {
+    SCOPED_TRACE(with_head);
+    DecomposeOptions dopt;
+    dopt.reach_deg = 120.0;
+    if (with_head) dopt.least_height_mm = least_height;
+    auto tree = decompose(part.mesh, axis.value(), dopt);
+    ASSERT_TRUE(tree.ok());
+    expect_partition(tree.value(), part.mesh);
+    if (with_head) {
+      EXPECT_LE(shortfall(tree.value()), 1e-3);
+    } else {
+      EXPECT_GT(shortfall(tree.value()), 5.0);
     }
   }
 }

@@ -126,6 +126,33 @@ TEST(Reach, AxesBelowTheHorizonTurnRoundWithinTheReach) {
   }
 }
 
+// The height over the plate at which the head can lay a region built at a tilt: nothing while the
+// torch can stand upright enough (up to the layer normal's 60° plus what keeps the default head's
+// cylinder, r 25 mm from 20 mm up, off the plate), then growing with the tilt; at that height the
+// head itself keeps the clearance asked for, and 1 mm lower it does not.
+TEST(Reach, TheHeadLaysARegionBuiltFarOverOnlyHighEnoughAboveThePlate) {
+  const machine::MachineConfig m = test::example_machine("ded5_ac");
+  const process::ProcessConfig p = test::default_process();
+  const double clearance = 0.5;
+  EXPECT_EQ(least_layable_height_mm(m, p, 0.0, clearance), 0.0);
+  EXPECT_EQ(least_layable_height_mm(m, p, 90.0 * kDeg, clearance), 0.0);  // the axis 30° over: its cylinder's rim 4.8 mm up
+  double before = 0.0;
+  for (double deg = 100.0; deg <= 150.0; deg += 10.0) {
+    SCOPED_TRACE(deg);
+    const double need = least_layable_height_mm(m, p, deg * kDeg, clearance);
+    EXPECT_GT(need, before);
+    before = need;
+    const double t = (deg - 60.0) * kDeg;
+    // The cylinder's lowest rim point sets it: 25 sin t − 20 cos t below the tip, and the clearance.
+    EXPECT_NEAR(need, 25.0 * std::sin(t) - 20.0 * std::cos(t) + clearance, 0.05);
+    const machine::BuildModel model = machine::make_build_model(m, p, -100.0, -100.0, 100.0, 100.0);
+    const Vec3 axis{std::sin(t), 0.0, std::cos(t)};
+    const double top = model.substrate.top_z_mm;
+    EXPECT_NEAR(machine::head_clearance_mm(model, {0.0, 0.0, top + need}, axis), clearance, 1e-6);
+    EXPECT_LT(machine::head_clearance_mm(model, {0.0, 0.0, top + need - 1.0}, axis), clearance);
+  }
+}
+
 // A travel from one blade's retract to the next blade's approach on a flaring hub: both axes 15°
 // below the horizon, 140° apart about +Z. Straight, the A axis would pass −120° on the way and the
 // G-code writer refuses the program; turned within the reach it is written, every inserted point
