@@ -1111,7 +1111,6 @@ bool take_redirected(const mesh::RepairedMesh& part, const machine::MachineConfi
   alt->choice = out.choice + "; " + why;
   alt->warnings = out.warnings;
   alt->warnings.push_back(why);
-  alt->choose_s = out.choose_s;
   alt->axis = std::move(out.axis);
   out = std::move(*alt);
   return true;
@@ -1210,7 +1209,6 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
                                                 const Figures* to_beat = nullptr, std::optional<Figures>* outdone = nullptr,
                                                 Figures* made_from = nullptr) {
   PlanPartResult out;
-  const auto t_choose = Clock::now();
   auto chosen = choose(part, machine, process, options, memo, out.choice);
   if (chosen && to_beat != nullptr && !better(Figures::of(chosen.value().plan), *to_beat)) {
     if (outdone != nullptr) outdone->emplace(Figures::of(chosen.value().plan));
@@ -1231,7 +1229,6 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     alt.value().warnings.push_back(fmt::format("planar layers were chosen because {}", why));
     return alt;
   }
-  out.choose_s = since(t_choose);
   out.plan = std::move(chosen.value().plan);
   out.axis = std::move(chosen.value().axis);
   out.strategy_used = chosen.value().strategy;
@@ -1275,7 +1272,6 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
                                                       out.check.collisions, describe(out.check.collision_list.front()));
       alt.choice = fmt::format("the part less the substrate, each piece along the substrate's normal under it (--substrate): {}", why);
       alt.warnings = {fmt::format("each piece on the substrate is built along the substrate's normal under it because {}", why)};
-      alt.choose_s = out.choose_s;
       out = std::move(alt);
       if (made_from != nullptr) *made_from = Figures::of(out.plan);
       made = {}, mid_air = false, collides = false;
@@ -1322,8 +1318,8 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
 
 namespace {
 
-core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                                const process::ProcessConfig& process, const PlanPartOptions& asked) {
+core::Result<PlanPartResult> plan_part_chosen(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                              const process::ProcessConfig& process, const PlanPartOptions& asked) {
   PlanPartOptions options = asked;
   if (options.gcode.part == nullptr) options.gcode.part = &part.mesh;  // the posts that carry the part (3MF toolpath)
   // Of the many plans a choice makes, only the one it returns is measured (finished()).
@@ -1366,6 +1362,19 @@ core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, 
     for (PlanRegion& r : kept.plan.placed_regions) r.layers_rule = kLayersPlanar, r.layers_why = "the plan on planar layers is the better: " + versus;
   }
   return std::move(kept);
+}
+
+// plan_part_chosen, with PlanPartResult::choose_s: all of it but the kept program's G-code,
+// simulation and verification (the choices dropped, programs made and read back, relief rounds).
+core::Result<PlanPartResult> plan_part_in_arena(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                                const process::ProcessConfig& process, const PlanPartOptions& asked) {
+  const auto t0 = Clock::now();
+  auto result = plan_part_chosen(part, machine, process, asked);
+  if (result) {
+    PlanPartResult& r = result.value();
+    r.choose_s = std::max(0.0, since(t0) - (r.gcode_s + r.simulate_s + r.verify_s));
+  }
+  return result;
 }
 
 }  // namespace

@@ -435,6 +435,12 @@ TEST(PlanFallback, ADecompositionThatStrikesGivesWayToTheBestSingleDirection) {
   EXPECT_EQ(reason.rfind("one build direction on a side face", 0), 0u) << reason;
   EXPECT_LT(report["unsupported_area_mm2"].get<double>(), 0.5 * upright_mm2) << reason;
   EXPECT_TRUE(report["support_free"].get<bool>()) << reason;
+  // The choice's time counts the decomposition dropped and its read-back, and the single direction
+  // made in its place (it was 0 here: the plan put in place of the first took none with it).
+  const auto t = read_json(dir / "timings.json")["timings_s"];
+  double kept_stages = 0.0;
+  for (const char* k : {"slice", "toolpath", "sequence", "support", "fidelity", "program"}) kept_stages += t[k].get<double>();
+  EXPECT_GT(t["choose"].get<double>(), kept_stages) << t.dump();
   check_readback(dir.path(), "shelf");
 }
 

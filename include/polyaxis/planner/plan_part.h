@@ -66,8 +66,10 @@ struct PlanPartResult {
   Strategy strategy_used = Strategy::kSingle;
   std::string choice;                    // what was chosen and why, one sentence
   std::vector<std::string> warnings;     // not support-free regions, thin regions, ...
-  // choose_s: choosing the plan (every candidate tried: directions, decompositions, layers), which
-  // includes the chosen plan's own stages (Plan::times).
+  // choose_s: all of plan_part but the kept program's G-code, simulation and verification: choosing
+  // the plan (every candidate tried: directions, decompositions, layers; the programs of choices
+  // dropped after their read-back; relief rounds), which includes the chosen plan's own stages
+  // (Plan::times).
   double choose_s = 0.0, gcode_s = 0.0, simulate_s = 0.0, verify_s = 0.0;
   post::GcodeStats gcode_stats;         // blocks the machine's axis limits slowed
 };

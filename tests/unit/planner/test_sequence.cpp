@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "planner/sequence.h"
@@ -206,6 +207,22 @@ TEST(AutoChoice, TheDecompositionFromTheLowestPointIsMadeOnlyWhereItsRootDiffers
   auto legs = plan_part(test::repaired(table), test::example_machine("ded5_ac"), test::default_process(), o);
   ASSERT_TRUE(legs.ok()) << legs.error().message;
   EXPECT_NE(legs.value().choice.find("from the lowest point"), std::string::npos) << legs.value().choice;
+}
+
+// choose_s is all of plan_part but the kept program's G-code, simulation and verification: a plan
+// whose choice is made twice (a ring that overhangs: the choice again on planar layers) counts both,
+// and the four figures add up to the whole call. (Where a decomposition was dropped after its
+// read-back for one direction, choose_s was 0.)
+TEST(AutoChoice, TheChoiceTimeIsAllButTheKeptProgramsReadBack) {
+  const auto ring = test::repaired(test::torus(16.0, 4.0, 40, 20));
+  const auto t0 = std::chrono::steady_clock::now();
+  auto r = plan_part(ring, test::example_machine("ded5_ac"), test::default_process(), PlanPartOptions{});
+  const double whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const PlanPartResult& p = r.value();
+  const StageTimes& t = p.plan.times;
+  EXPECT_GE(p.choose_s, t.slice_s + t.toolpath_s + t.sequence_s + t.support_s + t.fidelity_s + t.program_s);
+  EXPECT_NEAR(p.choose_s + p.gcode_s + p.simulate_s + p.verify_s, whole, 0.01 * whole + 0.01);
 }
 
 }  // namespace
