@@ -123,7 +123,8 @@ class PartMemo {
   // The decomposition of the solid (analysis::decompose) under AXIS and OPTIONS, made once for each
   // root (every option but `stop` and `least_height_mm` keys it: the machine and process, which fix
   // the latter, are the same for one part). The choice on planar layers asks for the same trees as
-  // the choice on automatic ones. A run that was stopped is not kept; two lanes asking for one root at once may both make it (the same tree).
+  // the choice on automatic ones. A run that was stopped is not kept; two lanes asking for one root
+  // at once may both make it (the same tree).
   core::Result<analysis::RegionTree> decomposition(const mesh::Mesh& solid, const analysis::CentroidalAxis& axis,
                                                    const analysis::DecomposeOptions& options) {
     const analysis::RootBase& b = options.root_base;
