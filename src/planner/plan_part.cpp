@@ -23,6 +23,7 @@
 #include "core/arena.h"
 #include "branches.h"
 #include "reach.h"
+#include "read_backs.h"
 
 namespace polyaxis::planner {
 namespace {
@@ -80,6 +81,8 @@ struct Candidate {
   std::vector<PlanRegion> regions;
   PlanOptions plan_options;
   bool root_at_lowest = false;  // a decomposition's root stands on the part's lowest point
+  // choose_auto's key for it in PartMemo (which candidate, how the part stands); empty elsewhere.
+  std::vector<double> memo_key;
 };
 
 // The layers of PLAN that turn with the part rather than stay parallel: "tilted", "conformal",
@@ -156,6 +159,22 @@ class PartMemo {
     planar_.emplace(key, std::make_shared<const Candidate>(c));
   }
 
+  // The outcome of redirected() for the planar candidate under KEY, kept where every plan it made
+  // took planar layers in every region: the choice again on planar layers would make the same
+  // plans, programs and outcome. Null when none is kept.
+  std::shared_ptr<const std::optional<PlanPartResult>> redirected(const std::vector<double>& key) {
+    const std::lock_guard lock(mutex_);
+    auto it = redirected_.find(key);
+    return it == redirected_.end() ? nullptr : it->second;
+  }
+  void keep_redirected(const std::vector<double>& key, const std::optional<PlanPartResult>& outcome) {
+    const std::lock_guard lock(mutex_);
+    redirected_.emplace(key, std::make_shared<const std::optional<PlanPartResult>>(outcome));
+  }
+
+  // The programs read back so far (program_of).
+  detail::ReadBacks& read_backs() { return read_backs_; }
+
   // The part's trunk splits (detail::trunk_splits) for beads of BEAD_MM, the first call's bead.
   const std::vector<detail::TrunkSplit>& trunk_splits(double bead_mm) {
     std::call_once(splits_once_, [&] { splits_ = detail::trunk_splits(part_, bead_mm); });
@@ -176,8 +195,10 @@ class PartMemo {
   std::map<std::array<double, 3>, std::shared_ptr<AxisEntry>> axes_;
   std::map<std::vector<double>, core::Result<analysis::RegionTree>> trees_;
   std::map<std::vector<double>, std::shared_ptr<const Candidate>> planar_;
+  std::map<std::vector<double>, std::shared_ptr<const std::optional<PlanPartResult>>> redirected_;
   std::once_flag splits_once_;
   std::vector<detail::TrunkSplit> splits_;
+  detail::ReadBacks read_backs_;
 };
 
 // STOP as plan_decomposed's.
@@ -638,6 +659,7 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
       made[i]->value().plan_options.layers = o.plan.layers;
     } else {
       made[i].emplace(plan(&unwanted[i]));
+      if (made[i]->ok()) made[i]->value().memo_key = memo_key(i);
       if (o.plan.layers == LayerChoice::kAuto && made[i]->ok() && !unwanted[i].load() && turned_layers(made[i]->value().plan).empty()) {
         memo.keep_planar_candidate(memo_key(i), made[i]->value());
       }
@@ -841,10 +863,36 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
   return with_trunk_splits(choose_auto(part, machine, process, o, memo, why), part, machine, process, o, memo, why);
 }
 
+// GCODE, PLAN's program, read back: its simulation against the plan and its verification against
+// the build model, side by side (they read the same text independently).
+detail::ReadBack read_back(const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanPartOptions& options,
+                           const Plan& plan, const std::string& gcode) {
+  std::optional<core::Result<verify::SimulationReport>> sim;
+  std::optional<core::Result<verify::BuildCheck>> check;
+  double simulate_s = 0.0, verify_s = 0.0;
+  const auto progress = core::ProgressScope::current();  // each side may run on a worker thread
+  tbb::parallel_invoke(
+      [&] {
+        const core::ProgressScope scope(progress);
+        const auto t = Clock::now();
+        sim.emplace(verify::simulate(machine, gcode, plan.program, &process, options.gcode.chordal_mm));
+        simulate_s = since(t);
+      },
+      [&] {
+        const core::ProgressScope scope(progress);
+        const auto t = Clock::now();
+        check.emplace(verify::verify_build(machine, process, plan.build_model, gcode));
+        verify_s = since(t);
+      });
+  return detail::ReadBack{std::move(*sim), std::move(*check), simulate_s, verify_s};
+}
+
 // The program of a chosen plan: G-code, its simulation against the plan and its verification
-// against the build model; OUT.plan is set.
+// against the build model; OUT.plan is set. A program read back before in this call (MEMO's
+// read_backs: the same G-code, program and build model) is not read again: its figures and the
+// times first measured are taken.
 core::Status program_of(const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanPartOptions& options,
-                        PlanPartResult& out) {
+                        PartMemo& memo, PlanPartResult& out) {
   const Plan& plan = out.plan;
   auto t0 = Clock::now();
   post::GcodeOptions gcode_options = options.gcode;
@@ -853,33 +901,22 @@ core::Status program_of(const machine::MachineConfig& machine, const process::Pr
   if (!gcode) return gcode.error();
   out.gcode = std::move(gcode.value());
   out.gcode_s = since(t0);
-  // The simulation against the plan and the verification against the build model read the same
-  // text independently: side by side.
-  std::optional<core::Result<verify::SimulationReport>> sim;
-  std::optional<core::Result<verify::BuildCheck>> check;
-  const auto progress = core::ProgressScope::current();  // each side may run on a worker thread
-  tbb::parallel_invoke(
-      [&] {
-        const core::ProgressScope scope(progress);
-        const auto t = Clock::now();
-        sim.emplace(verify::simulate(machine, out.gcode, plan.program, &process, options.gcode.chordal_mm));
-        out.simulate_s = since(t);
-      },
-      [&] {
-        const core::ProgressScope scope(progress);
-        const auto t = Clock::now();
-        check.emplace(verify::verify_build(machine, process, plan.build_model, out.gcode));
-        out.verify_s = since(t);
-      });
-  if (!*sim) return sim->error();
-  out.simulation = std::move(sim->value());
+  const detail::ReadBackKey key = detail::read_back_key(out.gcode, plan.program, plan.build_model);
+  std::optional<detail::ReadBack> read = memo.read_backs().find(key);
+  if (!read) {
+    read.emplace(read_back(machine, process, options, plan, out.gcode));
+    memo.read_backs().keep(key, *read);
+  }
+  out.simulate_s = read->simulate_s, out.verify_s = read->verify_s;
+  if (!read->simulation) return read->simulation.error();
+  out.simulation = std::move(read->simulation.value());
   if (out.simulation.limit_violations > 0) {
     return core::make_error(core::ErrorCode::kMachineLimit,
                             fmt::format("the program breaks a machine limit: {}",
                                         out.simulation.violations.empty() ? "" : out.simulation.violations.front()));
   }
-  if (!*check) return check->error();
-  out.check = std::move(check->value());
+  if (!read->check) return read->check.error();
+  out.check = std::move(read->check.value());
   return {};
 }
 
@@ -887,11 +924,11 @@ core::Status program_of(const machine::MachineConfig& machine, const process::Pr
 // layer's path, the torch turns further there and the program is made and read back again, at most
 // kReliefRounds times, and only while each round strikes less often than the one before.
 core::Status relieve(const machine::MachineConfig& machine, const process::ProcessConfig& process, const PlanPartOptions& options,
-                     PlanPartResult& out) {
+                     PartMemo& memo, PlanPartResult& out) {
   for (int round = 0; round < kReliefRounds && !out.check.collision_places.empty(); ++round) {
     if (relieve_collisions(out.plan, machine, process, options.plan, out.check.collision_places) == 0) break;
     const std::size_t before = out.check.collisions;
-    if (auto s = program_of(machine, process, options, out); !s) return s;
+    if (auto s = program_of(machine, process, options, memo, out); !s) return s;
     // A round that struck as often as the one before (the head buried in a feature the torch turns
     // cannot clear) is not followed by another: each costs a whole program and its read-back.
     if (out.check.collisions >= before) break;
@@ -920,12 +957,12 @@ namespace {
 // CANDIDATE's program (with its relief rounds) when it can be written and reads back clean: no
 // collision, no region starting in mid-air.
 std::optional<PlanPartResult> clean_program(core::Result<Candidate> candidate, Strategy strategy, const machine::MachineConfig& machine,
-                                            const process::ProcessConfig& process, const PlanPartOptions& options) {
+                                            const process::ProcessConfig& process, const PlanPartOptions& options, PartMemo& memo) {
   if (!candidate) return std::nullopt;
   PlanPartResult out;
   out.plan = std::move(candidate.value().plan);
   out.strategy_used = strategy;
-  if (!program_of(machine, process, options, out) || !relieve(machine, process, options, out)) return std::nullopt;
+  if (!program_of(machine, process, options, memo, out) || !relieve(machine, process, options, memo, out)) return std::nullopt;
   if (out.check.collisions > 0 || !out.check.mid_air_regions.empty()) return std::nullopt;
   return out;
 }
@@ -942,7 +979,7 @@ std::optional<std::pair<PlanPartResult, std::string>> clean_on_trunk(const mesh:
   for (const detail::TrunkSplit& split : memo.trunk_splits(process.bead_width_mm)) {
     if (!split.refused.empty()) continue;
     std::string trunk_why;
-    auto clean = clean_program(plan_on_trunk(part, machine, process, options, split, trunk_why), Strategy::kDecompose, machine, process, options);
+    auto clean = clean_program(plan_on_trunk(part, machine, process, options, split, trunk_why), Strategy::kDecompose, machine, process, options, memo);
     if (!clean || (best && !better(clean->plan, best->first.plan))) continue;
     best.emplace(std::move(*clean), fmt::format("{} grown on the trunk (the trunk: {})", split.label, trunk_why));
     if (best->first.plan.unsupported_area_mm2 == 0.0) break;
@@ -999,9 +1036,11 @@ std::size_t first_struck(const std::vector<PlanRegion>& regions, const PlanPartR
 // is tried in turn, kRedirectRegions regions at most. Each redirected region is marked
 // kDirectionRedirected. The best (better()) of the programs that read back clean; the first
 // support-free one ends the search.
-std::optional<PlanPartResult> redirected(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                         const process::ProcessConfig& process, const PlanPartOptions& options, const Candidate& source,
-                                         const PlanPartResult& struck) {
+// ALL_PLANAR is cleared where a plan it made took other than planar layers somewhere, or could not
+// be made.
+std::optional<PlanPartResult> redirected_search(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                                const process::ProcessConfig& process, const PlanPartOptions& options, PartMemo& memo,
+                                                const Candidate& source, const PlanPartResult& struck, bool& all_planar) {
   std::vector<PlanRegion> regions = source.regions;
   std::vector<std::size_t> done;
   std::optional<PlanPartResult> best, next;
@@ -1020,11 +1059,12 @@ std::optional<PlanPartResult> redirected(const mesh::RepairedMesh& part, const m
                                     current->check.collisions, describe(current->check.collision_list.front()), name);
       r.direction = direction;
       auto plan = make_plan(part, machine, process, source.plan_options, tried);
+      all_planar = all_planar && plan && turned_layers(plan.value()).empty();
       if (!plan) continue;
       PlanPartResult out;
       out.plan = std::move(plan.value());
       out.strategy_used = Strategy::kDecompose;
-      if (!program_of(machine, process, options, out) || !relieve(machine, process, options, out) || !out.check.mid_air_regions.empty()) continue;
+      if (!program_of(machine, process, options, memo, out) || !relieve(machine, process, options, memo, out) || !out.check.mid_air_regions.empty()) continue;
       // Support-free by the support check yet, read back, more beads over nothing than as
       // decomposed: a direction at the very limit of the check, which the read-back's grounding
       // rule does not let through (a bar leaning 60° built along a 30° lean, α = 30°).
@@ -1046,11 +1086,26 @@ std::optional<PlanPartResult> redirected(const mesh::RepairedMesh& part, const m
   return best;
 }
 
+// redirected_search, made once for a planar candidate of choose_auto (PartMemo::redirected).
+std::optional<PlanPartResult> redirected(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                         const process::ProcessConfig& process, const PlanPartOptions& options, PartMemo& memo,
+                                         const Candidate& source, const PlanPartResult& struck) {
+  const bool keyed = !source.memo_key.empty() && turned_layers(source.plan).empty();
+  if (keyed) {
+    if (auto kept = memo.redirected(source.memo_key)) return *kept;
+  }
+  bool all_planar = true;
+  auto outcome = redirected_search(part, machine, process, options, memo, source, struck, all_planar);
+  if (keyed && all_planar) memo.keep_redirected(source.memo_key, outcome);
+  return outcome;
+}
+
 // One direction in place of a decomposition whose program failed: upright and, where auto may turn
 // the part over, turned over and stood on a side face (side_direction) too, the better first (as
 // choose_auto takes them); the first that reads back clean, with its label.
 std::optional<std::pair<PlanPartResult, std::string>> clean_single(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
-                                                                   const process::ProcessConfig& process, const PlanPartOptions& options) {
+                                                                   const process::ProcessConfig& process, const PlanPartOptions& options,
+                                                                   PartMemo& memo) {
   std::vector<std::pair<core::Result<Candidate>, const char*>> tries;
   tries.emplace_back(plan_single(part, machine, process, options), kAutoLabels[kOneDirection]);
   if (options.root_base.kind == analysis::RootBase::Kind::kAuto) {
@@ -1068,7 +1123,7 @@ std::optional<std::pair<PlanPartResult, std::string>> clean_single(const mesh::R
     });
   }
   for (auto& [candidate, label] : tries) {
-    if (auto clean = clean_program(std::move(candidate), Strategy::kSingle, machine, process, options)) return std::pair{std::move(*clean), std::string(label)};
+    if (auto clean = clean_program(std::move(candidate), Strategy::kSingle, machine, process, options, memo)) return std::pair{std::move(*clean), std::string(label)};
   }
   return std::nullopt;
 }
@@ -1077,10 +1132,10 @@ std::optional<std::pair<PlanPartResult, std::string>> clean_single(const mesh::R
 class SingleFallback {
  public:
   SingleFallback(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
-                 const PlanPartOptions& options)
-      : part_(part), machine_(machine), process_(process), options_(options) {}
+                 const PlanPartOptions& options, PartMemo& memo)
+      : part_(part), machine_(machine), process_(process), options_(options), memo_(memo) {}
   std::optional<std::pair<PlanPartResult, std::string>>& get() {
-    if (!made_) made_.emplace(clean_single(part_, machine_, process_, options_));
+    if (!made_) made_.emplace(clean_single(part_, machine_, process_, options_, memo_));
     return *made_;
   }
 
@@ -1089,6 +1144,7 @@ class SingleFallback {
   const machine::MachineConfig& machine_;
   const process::ProcessConfig& process_;
   const PlanPartOptions& options_;
+  PartMemo& memo_;
   std::optional<std::optional<std::pair<PlanPartResult, std::string>>> made_;
 };
 
@@ -1098,8 +1154,8 @@ class SingleFallback {
 // face) that leaves less overhang, or as little in one region, wins (and is taken by the caller).
 // True when OUT was replaced by the redirected plan, with its choice and a warning naming why.
 bool take_redirected(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
-                     const PlanPartOptions& options, const Candidate& chosen, SingleFallback& single, PlanPartResult& out) {
-  auto alt = redirected(part, machine, process, options, chosen, out);
+                     const PlanPartOptions& options, PartMemo& memo, const Candidate& chosen, SingleFallback& single, PlanPartResult& out) {
+  auto alt = redirected(part, machine, process, options, memo, chosen, out);
   if (!alt) return false;
   if (options.strategy == Strategy::kAuto) {
     if (auto& one = single.get(); one && better(one->first.plan, alt->plan)) return false;
@@ -1234,8 +1290,8 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
   out.axis = std::move(chosen.value().axis);
   out.strategy_used = chosen.value().strategy;
   out.warnings = std::move(chosen.value().warnings);
-  core::Status made = program_of(machine, process, options, out);
-  if (made) made = relieve(machine, process, options, out);
+  core::Status made = program_of(machine, process, options, memo, out);
+  if (made) made = relieve(machine, process, options, memo, out);
   bool mid_air = made && !out.check.mid_air_regions.empty(), collides = made && out.check.collisions > 0;
   const std::string turned = turned_layers(out.plan);
   if (options.plan.layers == LayerChoice::kAuto && !turned.empty() && (!made || mid_air || collides)) {
@@ -1264,7 +1320,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     // reads back clean.
     const auto on = part_less_substrate(part, options);
     auto pieces = on ? plan_on_substrate(part, machine, process, options, on.value(), true) : core::Result<Candidate>(on.error());
-    if (auto clean = clean_program(std::move(pieces), Strategy::kDecompose, machine, process, options)) {
+    if (auto clean = clean_program(std::move(pieces), Strategy::kDecompose, machine, process, options, memo)) {
       PlanPartResult& alt = *clean;
       const std::string why = !made     ? fmt::format("along the given direction the program cannot be written: {}", made.error().message)
                               : mid_air ? std::string("along the given direction the deposit starts in mid-air")
@@ -1279,10 +1335,10 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     }
   }
   // auto's one direction in place of a failed decomposition (clean_single), made once when asked.
-  SingleFallback single(part, machine, process, options);
+  SingleFallback single(part, machine, process, options, memo);
   if (options.redirect_regions && made && collides && !mid_air && out.strategy_used == Strategy::kDecompose && options.prebuilt.empty() &&
       !options.substrate) {
-    collides = !take_redirected(part, machine, process, options, chosen.value(), single, out);
+    collides = !take_redirected(part, machine, process, options, memo, chosen.value(), single, out);
     if (!collides && made_from != nullptr) *made_from = Figures::of(out.plan);
   }
   if (options.strategy == Strategy::kAuto && options.prebuilt.empty() && !options.substrate && out.strategy_used == Strategy::kDecompose && (!made || mid_air || collides)) {
