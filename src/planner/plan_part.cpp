@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
@@ -1028,6 +1029,38 @@ std::size_t first_struck(const std::vector<PlanRegion>& regions, const PlanPartR
   return SIZE_MAX;
 }
 
+// REGIONS with region I built along DIRECTION (other_directions: the direction and its name) in
+// place of the direction along which the head struck something in CURRENT: its regions, whether
+// its plan took planar layers in every region (false when none could be made), and its program,
+// relieved and read back, where it could be written and no region starts in mid-air.
+struct Redirection {
+  std::vector<PlanRegion> regions;
+  bool planar = false;
+  std::optional<PlanPartResult> read;
+};
+
+Redirection redirection(const mesh::RepairedMesh& part, const machine::MachineConfig& machine, const process::ProcessConfig& process,
+                        const PlanPartOptions& options, PartMemo& memo, const PlanOptions& plan_options, const std::vector<PlanRegion>& regions,
+                        std::size_t i, const PlanPartResult& current, const std::pair<Vec3, std::string>& direction) {
+  Redirection t;
+  t.regions = regions;
+  PlanRegion& r = t.regions[i];
+  const Vec3 was = core::normalized(r.direction);
+  r.direction_rule = kDirectionRedirected;
+  r.direction_why = fmt::format("along {} the head struck something at {} samples (the first: {}); built along {} instead", direction_text(was),
+                                current.check.collisions, describe(current.check.collision_list.front()), direction.second);
+  r.direction = direction.first;
+  auto plan = make_plan(part, machine, process, plan_options, t.regions);
+  t.planar = plan && turned_layers(plan.value()).empty();
+  if (!plan) return t;
+  PlanPartResult out;
+  out.plan = std::move(plan.value());
+  out.strategy_used = Strategy::kDecompose;
+  if (!program_of(machine, process, options, memo, out) || !relieve(machine, process, options, memo, out) || !out.check.mid_air_regions.empty()) return t;
+  t.read = std::move(out);
+  return t;
+}
+
 // SOURCE's decomposition, whose program (STRUCK) strikes something no build order or torch tilt
 // cleared, with the region first struck while being built along other directions
 // (other_directions), one at a time; one the support check finds support-free must read back with
@@ -1045,26 +1078,25 @@ std::optional<PlanPartResult> redirected_search(const mesh::RepairedMesh& part, 
   std::vector<std::size_t> done;
   std::optional<PlanPartResult> best, next;
   const PlanPartResult* current = &struck;
+  const auto progress = core::ProgressScope::current();  // each try may run on a worker thread
   while (done.size() < kRedirectRegions) {
     const std::size_t i = first_struck(regions, *current, done);
     if (i == SIZE_MAX) break;
     done.push_back(i);
+    // The directions are planned, programmed and read back side by side, then taken in their order
+    // as one after the other would: the same outcome, and the plans past the first support-free one
+    // made for nothing.
+    const auto directions = other_directions(regions, i);
+    std::vector<Redirection> tries(directions.size());
+    tbb::parallel_for(std::size_t{0}, directions.size(), [&](std::size_t k) {
+      const core::ProgressScope scope(progress);
+      tries[k] = redirection(part, machine, process, options, memo, source.plan_options, regions, i, *current, directions[k]);
+    });
     std::optional<std::pair<PlanPartResult, std::vector<PlanRegion>>> carry;  // clears region I, least overhang
-    for (const auto& [direction, name] : other_directions(regions, i)) {
-      std::vector<PlanRegion> tried = regions;
-      PlanRegion& r = tried[i];
-      const Vec3 was = core::normalized(r.direction);
-      r.direction_rule = kDirectionRedirected;
-      r.direction_why = fmt::format("along {} the head struck something at {} samples (the first: {}); built along {} instead", direction_text(was),
-                                    current->check.collisions, describe(current->check.collision_list.front()), name);
-      r.direction = direction;
-      auto plan = make_plan(part, machine, process, source.plan_options, tried);
-      all_planar = all_planar && plan && turned_layers(plan.value()).empty();
-      if (!plan) continue;
-      PlanPartResult out;
-      out.plan = std::move(plan.value());
-      out.strategy_used = Strategy::kDecompose;
-      if (!program_of(machine, process, options, memo, out) || !relieve(machine, process, options, memo, out) || !out.check.mid_air_regions.empty()) continue;
+    for (Redirection& t : tries) {
+      all_planar = all_planar && t.planar;
+      if (!t.read) continue;
+      PlanPartResult& out = *t.read;
       // Support-free by the support check yet, read back, more beads over nothing than as
       // decomposed: a direction at the very limit of the check, which the read-back's grounding
       // rule does not let through (a bar leaning 60° built along a 30° lean, α = 30°).
@@ -1075,8 +1107,8 @@ std::optional<PlanPartResult> redirected_search(const mesh::RepairedMesh& part, 
         continue;
       }
       const bool clears = std::none_of(out.check.collision_list.begin(), out.check.collision_list.end(),
-                                       [&](const verify::Collision& c) { return c.region == static_cast<std::int64_t>(r.id); });
-      if (clears && (!carry || out.plan.unsupported_area_mm2 < carry->first.plan.unsupported_area_mm2)) carry.emplace(std::move(out), std::move(tried));
+                                       [&](const verify::Collision& c) { return c.region == static_cast<std::int64_t>(t.regions[i].id); });
+      if (clears && (!carry || out.plan.unsupported_area_mm2 < carry->first.plan.unsupported_area_mm2)) carry.emplace(std::move(out), std::move(t.regions));
     }
     if (best || !carry) break;
     next = std::move(carry->first);
