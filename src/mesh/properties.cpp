@@ -1,6 +1,8 @@
 #include "polyaxis/mesh/properties.h"
 
+#include <array>
 #include <cmath>
+#include <map>
 
 namespace polyaxis::mesh {
 
@@ -54,6 +56,51 @@ double overhang_area(const Mesh& mesh, Vec3 direction, double self_supporting_ra
     if (!on_plate) area += len / 2.0;
   }
   return area;
+}
+
+std::vector<Mesh> connected_solids(const Mesh& m) {
+  std::vector<std::uint32_t> parent(m.vertices.size());
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto find = [&](std::uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const auto& t : m.triangles) {
+    const std::uint32_t a = find(t[0]);
+    parent[find(t[1])] = a;
+    parent[find(t[2])] = a;
+  }
+  std::map<std::uint32_t, std::size_t> piece_of_root;
+  std::vector<Mesh> pieces;
+  std::vector<std::map<std::uint32_t, std::uint32_t>> index;
+  for (const auto& t : m.triangles) {
+    const std::uint32_t root = find(t[0]);
+    auto [it, added] = piece_of_root.try_emplace(root, pieces.size());
+    if (added) pieces.emplace_back(), index.emplace_back();
+    Mesh& piece = pieces[it->second];
+    std::array<std::uint32_t, 3> out{};
+    for (int k = 0; k < 3; ++k) {
+      auto [v, fresh] = index[it->second].try_emplace(t[static_cast<std::size_t>(k)], static_cast<std::uint32_t>(piece.vertices.size()));
+      if (fresh) piece.vertices.push_back(m.vertices[t[static_cast<std::size_t>(k)]]);
+      out[static_cast<std::size_t>(k)] = v->second;
+    }
+    piece.triangles.push_back(out);
+  }
+  std::vector<Mesh> solids, cavities;
+  for (Mesh& p : pieces) (mesh::signed_volume(p) > 0.0 ? solids : cavities).push_back(std::move(p));
+  for (const Mesh& c : cavities) {
+    for (Mesh& host : solids) {
+      core::Box3 box;
+      for (const core::Vec3& v : host.vertices) box.add(v);
+      const core::Vec3 q = c.vertices.front();
+      if (q.x < box.min.x || q.x > box.max.x || q.y < box.min.y || q.y > box.max.y || q.z < box.min.z || q.z > box.max.z) continue;
+      const auto base = static_cast<std::uint32_t>(host.vertices.size());
+      host.vertices.insert(host.vertices.end(), c.vertices.begin(), c.vertices.end());
+      for (const auto& t : c.triangles) host.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+      break;
+    }
+  }
+  return solids;
 }
 
 }  // namespace polyaxis::mesh

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <set>
 
 #include "polyaxis/analysis/skeleton.h"
+#include "polyaxis/core/tolerances.h"
 #include "polyaxis/mesh/distance.h"
 #include "polyaxis/mesh/plane_cut.h"
 #include "polyaxis/mesh/properties.h"
@@ -237,6 +239,129 @@ std::string label_of(const SkeletonGraph& g, std::uint32_t node, std::size_t bra
                        : fmt::format("the {} branches leaving ({:.1f}, {:.1f}, {:.1f})", branches, p.x, p.y, p.z);
 }
 
+// The trunk's chains for BRANCH (the edges that grow from the side children): each edge not in the
+// branch, carried on through branch nodes by the child that continues it (CARRIED), with the nodes
+// it passes through.
+struct TrunkChain {
+  Chain chain;
+  std::set<std::uint32_t> nodes;
+};
+
+std::vector<TrunkChain> trunk_chains(const SkeletonGraph& g, const std::vector<std::optional<std::size_t>>& carried,
+                                     const std::set<std::size_t>& branch) {
+  auto continues = [&](std::size_t k) { return carried[g.edges[k].from] == k; };
+  std::vector<TrunkChain> out;
+  for (std::size_t k = 0; k < g.edges.size(); ++k) {
+    if (branch.count(k) || g.edges[k].from == g.edges[k].to || continues(k)) continue;
+    TrunkChain c;
+    c.chain.free_start = g.nodes[g.edges[k].from].degree == 1;
+    c.nodes.insert(g.edges[k].from);
+    for (std::optional<std::size_t> e = k; e && !branch.count(*e); e = carried[g.edges[*e].to]) {
+      const auto& poly = g.edges[*e].polyline;
+      c.chain.polyline.insert(c.chain.polyline.end(), poly.begin() + (c.chain.polyline.empty() ? 0 : 1), poly.end());
+      c.chain.free_end = g.nodes[g.edges[*e].to].degree == 1;
+      c.nodes.insert(g.edges[*e].to);
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+// The side edges SIDES and all that grows from them.
+std::set<std::size_t> grown_from(const SkeletonGraph& g, const std::vector<std::size_t>& sides) {
+  std::set<std::uint32_t> beyond;
+  std::set<std::size_t> branch(sides.begin(), sides.end());
+  for (const std::size_t c : sides) beyond.insert(g.edges[c].to);
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (std::size_t k = 0; k < g.edges.size(); ++k) {
+      if (!branch.count(k) && beyond.count(g.edges[k].from)) branch.insert(k), beyond.insert(g.edges[k].to), grew = true;
+    }
+  }
+  return branch;
+}
+
+// TRUNK and REST (the part within and outside the tubes) with the pieces of REST that hold no
+// point of BRANCH's skeleton edges (the foot, a cap: parts of the trunk the tubes left out) united
+// with TRUNK; REST keeps the others. kInfeasible when no piece holds a branch, or the union fails.
+core::Result<std::pair<mesh::Mesh, mesh::Mesh>> branches_only(const SkeletonGraph& g, const std::set<std::size_t>& branch, mesh::Mesh trunk,
+                                                             const mesh::Mesh& rest) {
+  std::vector<Vec3> points;
+  for (const std::size_t k : branch) points.insert(points.end(), g.edges[k].polyline.begin(), g.edges[k].polyline.end());
+  std::vector<mesh::Mesh> kept{std::move(trunk)};
+  mesh::Mesh branches;
+  for (mesh::Mesh& piece : mesh::connected_solids(rest)) {
+    const core::Box3 box = mesh::bounding_box(piece);
+    const bool holds = std::any_of(points.begin(), points.end(), [&](Vec3 p) {
+      return p.x >= box.min.x && p.x <= box.max.x && p.y >= box.min.y && p.y <= box.max.y && p.z >= box.min.z && p.z <= box.max.z &&
+             mesh::winding_number(piece, p) > core::kInsideWindingNumber;
+    });
+    if (!holds) {
+      kept.push_back(std::move(piece));
+      continue;
+    }
+    const auto base = static_cast<std::uint32_t>(branches.vertices.size());
+    branches.vertices.insert(branches.vertices.end(), piece.vertices.begin(), piece.vertices.end());
+    for (const auto& t : piece.triangles) branches.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  if (branches.triangles.empty()) return core::make_error(core::ErrorCode::kInfeasible, "no piece outside the trunk's tubes holds a branch");
+  if (kept.size() == 1) return std::pair{std::move(kept.front()), std::move(branches)};
+  auto united = mesh::unite(kept);
+  if (!united) return core::make_error(core::ErrorCode::kInfeasible, fmt::format("the trunk and its pieces the tubes left out: {}", united.error().message));
+  return std::pair{std::move(united.value()), std::move(branches)};
+}
+
+// The split of PART at NODE with the side edges SIDES as branches (and all that grows from them).
+// Every trunk chain is tubed (chain_tube); a chain that cannot be (a foot's flat disc, a rib: not
+// round) is left out, and only the sides leaving a tubed chain stay branches, so long as one does.
+// Where chains were left out, the pieces of the part outside the tubes that hold none of the
+// branches' skeleton (the foot, a cap) go back to the trunk.
+TrunkSplit split_at(const mesh::RepairedMesh& part, const SkeletonGraph& g, const std::vector<std::optional<std::size_t>>& carried,
+                    const std::vector<std::pair<Vec3, double>>& joints, const mesh::SurfaceDistance& surface, double bead_mm,
+                    std::uint32_t node, std::vector<std::size_t> sides) {
+  TrunkSplit split;
+  split.label = label_of(g, node, sides.size());
+  std::vector<mesh::Mesh> tubes;
+  std::set<std::uint32_t> tubed_nodes;
+  std::string left_out;
+  for (TrunkChain& c : trunk_chains(g, carried, grown_from(g, sides))) {
+    auto t = chain_tube(g, c.chain, joints, surface, bead_mm);
+    if (!t) {
+      if (left_out.empty()) left_out = t.error().message;
+      continue;
+    }
+    tubes.push_back(std::move(t.value()));
+    tubed_nodes.insert(c.nodes.begin(), c.nodes.end());
+  }
+  std::erase_if(sides, [&](std::size_t k) { return !tubed_nodes.count(g.edges[k].from); });
+  if (!sides.empty()) split.label = label_of(g, node, sides.size());
+  if (tubes.empty() || sides.empty()) {
+    split.refused = !left_out.empty() ? left_out : tubes.empty() ? "no trunk: every edge is a branch" : "no branch leaves a round limb";
+    return split;
+  }
+  auto tubes_united = tubes.size() == 1 ? core::Result<mesh::Mesh>(std::move(tubes.front())) : mesh::unite(tubes);
+  auto rest = tubes_united ? mesh::difference(part.mesh, tubes_united.value()) : core::Result<mesh::Mesh>(tubes_united.error());
+  auto trunk = tubes_united ? mesh::intersection(part.mesh, tubes_united.value()) : core::Result<mesh::Mesh>(tubes_united.error());
+  if (!rest || !trunk) {
+    split.refused = !rest ? rest.error().message : trunk.error().message;
+    return split;
+  }
+  if (rest.value().triangles.empty() || trunk.value().triangles.empty()) {
+    split.refused = rest.value().triangles.empty() ? "the trunk's tubes hold the whole part" : "the tubes miss the part";
+    return split;
+  }
+  if (!left_out.empty()) {
+    auto kept = branches_only(g, grown_from(g, sides), std::move(trunk.value()), rest.value());
+    if (!kept) {
+      split.refused = kept.error().message;
+      return split;
+    }
+    trunk = std::move(kept.value().first), rest = std::move(kept.value().second);
+  }
+  split.trunk = std::move(trunk.value()), split.rest = std::move(rest.value()), split.tubes = std::move(tubes_united.value());
+  return split;
+}
+
 }  // namespace
 
 std::vector<TrunkSplit> trunk_splits(const mesh::RepairedMesh& part, double bead_mm) {
@@ -263,75 +388,39 @@ std::vector<TrunkSplit> trunk_splits(const mesh::RepairedMesh& part, double bead
       return core::dot(into, end_tangent(g.edges[a].polyline, true, span)) < core::dot(into, end_tangent(g.edges[b].polyline, true, span));
     });
   }
-  auto continuation = [&](std::uint32_t node) { return carried[node]; };
-  auto continues = [&](std::size_t k) { return carried[g.edges[k].from] == k; };
-  // Branch points in order from the root (edges run away from it, breadth-first).
-  std::size_t points_tried = 0;
-  for (std::uint32_t node = 0; node < g.nodes.size() && points_tried < kMaxTrunkSplits; ++node) {
-    if (!carried[node]) continue;
-    ++points_tried;
-    const std::size_t on = *carried[node];
+  auto children_of = [&](std::uint32_t node) {
     std::vector<std::size_t> children;
     for (std::size_t k = 0; k < g.edges.size(); ++k) {
       if (g.edges[k].from == node && g.edges[k].to != node) children.push_back(k);
     }
+    return children;
+  };
+  // Branch points in order from the root (edges run away from it, breadth-first).
+  std::size_t points_tried = 0;
+  for (std::uint32_t node = 0; node < g.nodes.size() && points_tried < kMaxTrunkSplits; ++node) {
+    if (!carried[node]) continue;
+    const std::vector<std::size_t> children = children_of(node);
+    // A branch point none of whose side children is a round limb (a spur of the skeleton in a flat
+    // foot or flange) is passed over.
+    const bool round_side = std::any_of(children.begin(), children.end(), [&](std::size_t c) {
+      if (c == *carried[node]) return false;
+      Chain side;
+      side.polyline = g.edges[c].polyline;
+      side.free_end = g.nodes[g.edges[c].to].degree == 1;
+      return chain_tube(g, side, joints, surface, bead_mm).ok();
+    });
+    if (!round_side) continue;
+    ++points_tried;
     // The branches tried: every child but the one carrying the trunk on; then every child, the
     // trunk ending at the node (a column with arms all round; a Y fork, whose arms both leave the
     // column at an angle and stand close: grown one on the other, the head building the second
     // strikes the first).
-    std::vector<std::vector<std::size_t>> tries(1);
+    std::vector<std::size_t> sides;
     for (const std::size_t c : children) {
-      if (c != on) tries.front().push_back(c);
+      if (c != *carried[node]) sides.push_back(c);
     }
-    tries.push_back(children);
-    for (const std::vector<std::size_t>& sides : tries) {
-      // The side children and all that grows from them.
-      std::set<std::uint32_t> beyond;
-      std::set<std::size_t> branch(sides.begin(), sides.end());
-      for (const std::size_t c : sides) beyond.insert(g.edges[c].to);
-      for (bool grew = true; grew;) {
-        grew = false;
-        for (std::size_t k = 0; k < g.edges.size(); ++k) {
-          if (!branch.count(k) && beyond.count(g.edges[k].from)) branch.insert(k), beyond.insert(g.edges[k].to), grew = true;
-        }
-      }
-      // The trunk's chains: each edge not in the branch, carried on through branch nodes by the child
-      // that continues it.
-      std::vector<mesh::Mesh> tubes;
-      std::string refused;
-      for (std::size_t k = 0; k < g.edges.size() && refused.empty(); ++k) {
-        if (branch.count(k) || g.edges[k].from == g.edges[k].to || continues(k)) continue;
-        Chain chain;
-        chain.free_start = g.nodes[g.edges[k].from].degree == 1;
-        for (std::optional<std::size_t> e = k; e && !branch.count(*e); e = continuation(g.edges[*e].to)) {
-          const auto& poly = g.edges[*e].polyline;
-          chain.polyline.insert(chain.polyline.end(), poly.begin() + (chain.polyline.empty() ? 0 : 1), poly.end());
-          chain.free_end = g.nodes[g.edges[*e].to].degree == 1;
-        }
-        auto t = chain_tube(g, chain, joints, surface, bead_mm);
-        if (!t) refused = t.error().message;
-        else tubes.push_back(std::move(t.value()));
-      }
-      TrunkSplit split;
-      split.label = label_of(g, node, sides.size());
-      if (refused.empty() && tubes.empty()) refused = "no trunk: every edge is a branch";
-      if (!refused.empty()) {
-        split.refused = refused;
-        out.push_back(std::move(split));
-        continue;
-      }
-      auto tubes_united = tubes.size() == 1 ? core::Result<mesh::Mesh>(std::move(tubes.front())) : mesh::unite(tubes);
-      auto rest = tubes_united ? mesh::difference(part.mesh, tubes_united.value()) : core::Result<mesh::Mesh>(tubes_united.error());
-      auto trunk = tubes_united ? mesh::intersection(part.mesh, tubes_united.value()) : core::Result<mesh::Mesh>(tubes_united.error());
-      if (!rest || !trunk) {
-        split.refused = !rest ? rest.error().message : trunk.error().message;
-      } else if (rest.value().triangles.empty() || trunk.value().triangles.empty()) {
-        split.refused = rest.value().triangles.empty() ? "the trunk's tubes hold the whole part" : "the tubes miss the part";
-      } else {
-        split.trunk = std::move(trunk.value()), split.rest = std::move(rest.value()), split.tubes = std::move(tubes_united.value());
-      }
-      out.push_back(std::move(split));
-    }
+    out.push_back(split_at(part, g, carried, joints, surface, bead_mm, node, sides));
+    out.push_back(split_at(part, g, carried, joints, surface, bead_mm, node, children));
   }
   return out;
 }

@@ -59,10 +59,13 @@ struct TrunkSplit {
 // The splits of PART (repaired, one solid) at its skeleton's branch points: at each, the child
 // edge that turns least from the edge into it continues the trunk, and the other children with all
 // that grows from them are the branches, and then all of them, the trunk ending there; the trunk
-// is the part within the tubes around the other edges.
-// BEAD_MM sizes the tubes' margin. A split whose tubes cross themselves, or where the boolean
-// operations fail or leave either side empty, says so in `refused`. At most kMaxTrunkSplits
-// branch points, two splits each.
+// is the part within the tubes around the other edges. A branch point none of whose side children
+// is a round limb (a spur of the skeleton in a flat foot) is passed over. A trunk chain that cannot be tubed (a foot's or a flange's flat disc is not round) is left out;
+// then only the sides leaving a tubed chain stay branches, and the pieces of the part outside the
+// tubes that hold none of their skeleton (the foot) go back to the trunk.
+// BEAD_MM sizes the tubes' margin. A split where no branch leaves a tubed chain, whose tubes cross
+// themselves, or where the boolean operations fail or leave either side empty, says so in
+// `refused`. At most kMaxTrunkSplits branch points, two splits each.
 std::vector<TrunkSplit> trunk_splits(const mesh::RepairedMesh& part, double bead_mm);
 
 }  // namespace polyaxis::planner::detail

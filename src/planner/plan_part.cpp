@@ -10,6 +10,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -173,6 +174,24 @@ class PartMemo {
     redirected_.emplace(key, std::make_shared<const std::optional<PlanPartResult>>(outcome));
   }
 
+  // plan_on_trunk of trunk_splits()[I] along DIRECTION with its trunk's reasons, made by MAKE on the
+  // first call: the choice (with_trunk_splits) and the fallback after a failed decomposition
+  // (clean_on_trunk) plan the same splits, both on automatic layers only.
+  struct OnTrunk {
+    core::Result<Candidate> candidate;
+    std::string why;
+  };
+  std::shared_ptr<const OnTrunk> on_trunk(std::size_t i, Vec3 direction, const std::function<OnTrunk()>& make) {
+    const std::array<double, 4> key{static_cast<double>(i), direction.x, direction.y, direction.z};
+    {
+      const std::lock_guard lock(mutex_);
+      if (auto it = on_trunk_.find(key); it != on_trunk_.end()) return it->second;
+    }
+    auto made = std::make_shared<const OnTrunk>(make());
+    const std::lock_guard lock(mutex_);
+    return on_trunk_.emplace(key, std::move(made)).first->second;
+  }
+
   // The programs read back so far (program_of).
   detail::ReadBacks& read_backs() { return read_backs_; }
 
@@ -200,6 +219,7 @@ class PartMemo {
   std::once_flag splits_once_;
   std::vector<detail::TrunkSplit> splits_;
   detail::ReadBacks read_backs_;
+  std::map<std::array<double, 4>, std::shared_ptr<const OnTrunk>> on_trunk_;
 };
 
 // STOP as plan_decomposed's.
@@ -213,53 +233,6 @@ core::Result<Candidate> plan_single(const mesh::RepairedMesh& part, const machin
   Candidate c;
   c.plan = std::move(plan.value());
   return c;
-}
-
-// The connected pieces of MESH (faces sharing vertices), each a mesh of its own; a piece of
-// negative volume (a cavity's surface) goes with the first solid piece whose box holds it.
-std::vector<mesh::Mesh> connected_pieces(const mesh::Mesh& m) {
-  std::vector<std::uint32_t> parent(m.vertices.size());
-  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-  auto find = [&](std::uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (const auto& t : m.triangles) {
-    const std::uint32_t a = find(t[0]);
-    parent[find(t[1])] = a;
-    parent[find(t[2])] = a;
-  }
-  std::map<std::uint32_t, std::size_t> piece_of_root;
-  std::vector<mesh::Mesh> pieces;
-  std::vector<std::map<std::uint32_t, std::uint32_t>> index;
-  for (const auto& t : m.triangles) {
-    const std::uint32_t root = find(t[0]);
-    auto [it, added] = piece_of_root.try_emplace(root, pieces.size());
-    if (added) pieces.emplace_back(), index.emplace_back();
-    mesh::Mesh& piece = pieces[it->second];
-    std::array<std::uint32_t, 3> out{};
-    for (int k = 0; k < 3; ++k) {
-      auto [v, fresh] = index[it->second].try_emplace(t[static_cast<std::size_t>(k)], static_cast<std::uint32_t>(piece.vertices.size()));
-      if (fresh) piece.vertices.push_back(m.vertices[t[static_cast<std::size_t>(k)]]);
-      out[static_cast<std::size_t>(k)] = v->second;
-    }
-    piece.triangles.push_back(out);
-  }
-  std::vector<mesh::Mesh> solids, cavities;
-  for (mesh::Mesh& p : pieces) (mesh::signed_volume(p) > 0.0 ? solids : cavities).push_back(std::move(p));
-  for (const mesh::Mesh& c : cavities) {
-    for (mesh::Mesh& host : solids) {
-      core::Box3 box;
-      for (const Vec3& v : host.vertices) box.add(v);
-      const Vec3 q = c.vertices.front();
-      if (q.x < box.min.x || q.x > box.max.x || q.y < box.min.y || q.y > box.max.y || q.z < box.min.z || q.z > box.max.z) continue;
-      const auto base = static_cast<std::uint32_t>(host.vertices.size());
-      host.vertices.insert(host.vertices.end(), c.vertices.begin(), c.vertices.end());
-      for (const auto& t : c.triangles) host.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-      break;
-    }
-  }
-  return solids;
 }
 
 // The vertex of MESH lowest along D.
@@ -393,7 +366,7 @@ core::Result<Candidate> plan_on_substrate(const mesh::RepairedMesh& part, const 
   } else {
     const double reach = detail::direction_reach_rad(machine, process);
     bool turned = false;
-    for (mesh::Mesh& piece : connected_pieces(on.rest)) {
+    for (mesh::Mesh& piece : mesh::connected_solids(on.rest)) {
       Vec3 d = base_normal(piece, on.skin).value_or(up);
       const double angle = std::acos(std::clamp(core::dot(d, up), -1.0, 1.0));
       if (angle > reach) d = turned_towards(d, up, (angle - reach) * 180.0 / std::numbers::pi);
@@ -782,7 +755,7 @@ core::Result<Candidate> plan_on_trunk(const mesh::RepairedMesh& part, const mach
   }
   const Vec3 up = core::normalized(o.direction);
   const double reach = detail::direction_reach_rad(machine, process);
-  for (mesh::Mesh& piece : connected_pieces(split.rest)) {
+  for (mesh::Mesh& piece : mesh::connected_solids(split.rest)) {
     Vec3 d = base_normal(piece, split.trunk).value_or(up);
     const double angle = std::acos(std::clamp(core::dot(d, up), -1.0, 1.0));
     if (angle > reach) d = turned_towards(d, up, (angle - reach) * 180.0 / std::numbers::pi);
@@ -812,13 +785,20 @@ core::Result<Candidate> with_trunk_splits(core::Result<Candidate> chosen, const 
     return chosen;
   }
   std::vector<std::string> tried;
-  for (const detail::TrunkSplit& split : memo.trunk_splits(process.bead_width_mm)) {
+  const auto& splits = memo.trunk_splits(process.bead_width_mm);
+  for (std::size_t i = 0; i < splits.size(); ++i) {
+    const detail::TrunkSplit& split = splits[i];
     if (!split.refused.empty()) {
       tried.push_back(fmt::format("{} on the trunk: {}", split.label, split.refused));
       continue;
     }
-    std::string trunk_why;
-    auto on_trunk = plan_on_trunk(part, machine, process, o, split, trunk_why);
+    const auto made = memo.on_trunk(i, o.direction, [&] {
+      PartMemo::OnTrunk t{core::make_error(core::ErrorCode::kInfeasible, "not made"), {}};
+      t.candidate = plan_on_trunk(part, machine, process, o, split, t.why);
+      return t;
+    });
+    const std::string& trunk_why = made->why;
+    core::Result<Candidate> on_trunk = made->candidate;
     if (!on_trunk) {
       tried.push_back(fmt::format("{} on the trunk: {}", split.label, on_trunk.error().message));
       continue;
@@ -977,10 +957,17 @@ std::optional<std::pair<PlanPartResult, std::string>> clean_on_trunk(const mesh:
                                                                      PartMemo& memo) {
   if (options.plan.layers != LayerChoice::kAuto || !machine::has_rotary_axes(machine.kind)) return std::nullopt;
   std::optional<std::pair<PlanPartResult, std::string>> best;
-  for (const detail::TrunkSplit& split : memo.trunk_splits(process.bead_width_mm)) {
+  const auto& splits = memo.trunk_splits(process.bead_width_mm);
+  for (std::size_t i = 0; i < splits.size(); ++i) {
+    const detail::TrunkSplit& split = splits[i];
     if (!split.refused.empty()) continue;
-    std::string trunk_why;
-    auto clean = clean_program(plan_on_trunk(part, machine, process, options, split, trunk_why), Strategy::kDecompose, machine, process, options, memo);
+    const auto made = memo.on_trunk(i, options.direction, [&] {
+      PartMemo::OnTrunk t{core::make_error(core::ErrorCode::kInfeasible, "not made"), {}};
+      t.candidate = plan_on_trunk(part, machine, process, options, split, t.why);
+      return t;
+    });
+    const std::string& trunk_why = made->why;
+    auto clean = clean_program(made->candidate, Strategy::kDecompose, machine, process, options, memo);
     if (!clean || (best && !better(clean->plan, best->first.plan))) continue;
     best.emplace(std::move(*clean), fmt::format("{} grown on the trunk (the trunk: {})", split.label, trunk_why));
     if (best->first.plan.unsupported_area_mm2 == 0.0) break;

@@ -5,11 +5,12 @@
 // thickness along the tool axis in the process's range, rs274 accepting the program. The parts:
 // two_branches (Ruan Fig. 11) and parts of our own (tests/corpus/branches): a column with three
 // arms round its side, a Y fork, a tuning fork, a column with one arm, and two_branches at other
-// sizes.
+// sizes, and columns on a round foot.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <set>
 
 #include "support/cli.h"
@@ -68,6 +69,27 @@ TEST(PlanBranches, AColumnWithThreeArmsRoundItsSideGrowsThemOnTheColumn) {
   TempDir dir;
   std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/three_arms.stl", dir.path() / "three_arms.stl");
   expect_grown_on_trunk(dir, "three_arms");
+}
+
+// three_arms on a round foot: the foot's flat disc puts spurs into the skeleton that no round tube
+// holds, so the trunk's tubes leave them out and the foot goes back to the trunk (before, every
+// trunk split was refused as not round, and the planar decomposition left 0.5 mm² overhanging).
+TEST(PlanBranches, AColumnWithArmsStandingOnARoundFootGrowsThemOnTheColumn) {
+  TempDir dir;
+  std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/footed_arms.stl", dir.path() / "footed_arms.stl");
+  expect_grown_on_trunk(dir, "footed_arms");
+  // The trunk holds the foot: it stands on the plate and holds more than the foot's volume.
+  const auto plan = read_json(dir.path() / "plan.json");
+  ASSERT_GE(plan["regions"].size(), 2u);
+  EXPECT_EQ(plan["regions"][0]["rule"], "trunk");
+  EXPECT_GT(plan["regions"][0]["volume_mm3"].get<double>(), std::numbers::pi * 14.0 * 14.0 * 4.0);
+}
+
+// A column on a round foot with arms at two heights and azimuths.
+TEST(PlanBranches, AColumnOnAFootWithArmsAtTwoHeightsGrowsThemOnTheColumn) {
+  TempDir dir;
+  std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/two_heights.stl", dir.path() / "two_heights.stl");
+  expect_grown_on_trunk(dir, "two_heights");
 }
 
 // A Y fork and a tuning fork of our own: both arms leave the column at an angle and stand close.

@@ -1,6 +1,8 @@
 // Measures of a mesh: volume, area, bounding box, overhang area.
 #pragma once
 
+#include <vector>
+
 #include "polyaxis/core/vec3.h"
 #include "polyaxis/mesh/mesh.h"
 
@@ -24,6 +26,10 @@ double winding_number(const Mesh& mesh, core::Vec3 p);
 // self-supporting angle α_max from vertical (SPEC §2.2), excluding facets that lie on the build
 // plate (every corner within kPlateContactMm of the lowest point along D). Returns their area, mm².
 double overhang_area(const Mesh& mesh, core::Vec3 direction, double self_supporting_rad);
+
+// The connected pieces of M (faces sharing vertices), each a mesh of its own; a piece of negative
+// volume (a cavity's surface) goes with the first solid piece whose box holds it. Cost: O(F log F).
+std::vector<Mesh> connected_solids(const Mesh& m);
 
 // Facets resting on the build plate are not overhangs; this is how close "on" is, mm.
 inline constexpr double kPlateContactMm = 1e-3;
