@@ -950,11 +950,12 @@ std::optional<PlanPartResult> clean_program(core::Result<Candidate> candidate, S
 
 // The part split into a trunk and branches (detail::trunk_splits, plan_on_trunk) whose program
 // reads back clean, the first support-free one or else the one with the least unsupported area,
-// with its label; for a decomposition that failed read-back where one direction overhangs. None
-// unless the layers are automatic.
+// with its label; for a decomposition that failed read-back where one direction overhangs. With
+// TO_BEAT (that direction's plan), a split whose plan as chosen is not better() is not programmed:
+// the caller would not take it. None unless the layers are automatic.
 std::optional<std::pair<PlanPartResult, std::string>> clean_on_trunk(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
                                                                      const process::ProcessConfig& process, const PlanPartOptions& options,
-                                                                     PartMemo& memo) {
+                                                                     PartMemo& memo, const Plan* to_beat) {
   if (options.plan.layers != LayerChoice::kAuto || !machine::has_rotary_axes(machine.kind)) return std::nullopt;
   std::optional<std::pair<PlanPartResult, std::string>> best;
   const auto& splits = memo.trunk_splits(process.bead_width_mm);
@@ -967,6 +968,8 @@ std::optional<std::pair<PlanPartResult, std::string>> clean_on_trunk(const mesh:
       return t;
     });
     const std::string& trunk_why = made->why;
+    // Not programmed where, as chosen, it cannot win.
+    if (!made->candidate || (to_beat != nullptr && !better(made->candidate.value().plan, *to_beat))) continue;
     auto clean = clean_program(made->candidate, Strategy::kDecompose, machine, process, options, memo);
     if (!clean || (best && !better(clean->plan, best->first.plan))) continue;
     best.emplace(std::move(*clean), fmt::format("{} grown on the trunk (the trunk: {})", split.label, trunk_why));
@@ -1368,7 +1371,7 @@ core::Result<PlanPartResult> plan_part_as_asked(const mesh::RepairedMesh& part, 
     auto& clean = single.get();
     if (!clean || clean->first.plan.unsupported_area_mm2 > 0.0) {
       // Where one direction overhangs, the trunk and its branches may not.
-      if (auto trunk = clean_on_trunk(part, machine, process, options, memo); trunk && (!clean || better(trunk->first.plan, clean->first.plan))) {
+      if (auto trunk = clean_on_trunk(part, machine, process, options, memo, clean ? &clean->first.plan : nullptr); trunk && (!clean || better(trunk->first.plan, clean->first.plan))) {
         clean.emplace(std::move(trunk->first), std::move(trunk->second));
       }
     }
