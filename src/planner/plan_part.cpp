@@ -776,6 +776,17 @@ core::Result<Candidate> plan_on_trunk(const mesh::RepairedMesh& part, const mach
   return c;
 }
 
+// plan_on_trunk of the part's trunk split I (PartMemo::trunk_splits), made once per MEMO.
+std::shared_ptr<const PartMemo::OnTrunk> planned_on_trunk(const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
+                                                          const process::ProcessConfig& process, const PlanPartOptions& o, PartMemo& memo,
+                                                          std::size_t i) {
+  return memo.on_trunk(i, o.direction, [&] {
+    PartMemo::OnTrunk t{core::make_error(core::ErrorCode::kInfeasible, "not made"), {}};
+    t.candidate = plan_on_trunk(part, machine, process, o, memo.trunk_splits(process.bead_width_mm)[i], t.why);
+    return t;
+  });
+}
+
 // CHOSEN (auto's choice, WHY its reasons) or, when it is not support-free and the layers are
 // automatic, the part split into a trunk and branches (detail::trunk_splits) when that does better.
 core::Result<Candidate> with_trunk_splits(core::Result<Candidate> chosen, const mesh::RepairedMesh& part, const machine::MachineConfig& machine,
@@ -792,11 +803,7 @@ core::Result<Candidate> with_trunk_splits(core::Result<Candidate> chosen, const 
       tried.push_back(fmt::format("{} on the trunk: {}", split.label, split.refused));
       continue;
     }
-    const auto made = memo.on_trunk(i, o.direction, [&] {
-      PartMemo::OnTrunk t{core::make_error(core::ErrorCode::kInfeasible, "not made"), {}};
-      t.candidate = plan_on_trunk(part, machine, process, o, split, t.why);
-      return t;
-    });
+    const auto made = planned_on_trunk(part, machine, process, o, memo, i);
     const std::string& trunk_why = made->why;
     core::Result<Candidate> on_trunk = made->candidate;
     if (!on_trunk) {
@@ -962,11 +969,7 @@ std::optional<std::pair<PlanPartResult, std::string>> clean_on_trunk(const mesh:
   for (std::size_t i = 0; i < splits.size(); ++i) {
     const detail::TrunkSplit& split = splits[i];
     if (!split.refused.empty()) continue;
-    const auto made = memo.on_trunk(i, options.direction, [&] {
-      PartMemo::OnTrunk t{core::make_error(core::ErrorCode::kInfeasible, "not made"), {}};
-      t.candidate = plan_on_trunk(part, machine, process, options, split, t.why);
-      return t;
-    });
+    const auto made = planned_on_trunk(part, machine, process, options, memo, i);
     const std::string& trunk_why = made->why;
     // Not programmed where, as chosen, it cannot win.
     if (!made->candidate || (to_beat != nullptr && !better(made->candidate.value().plan, *to_beat))) continue;

@@ -54,6 +54,12 @@ void expect_grown_on_trunk(const TempDir& dir, const std::string& name, std::str
   EXPECT_GT(th.measured, th.points / 2) << th.measured << " of " << th.points;
 }
 
+// tests/corpus/branches/NAME.stl copied into DIR and checked as expect_grown_on_trunk does.
+void expect_corpus_part_grown_on_trunk(const TempDir& dir, const std::string& name) {
+  std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/" + name + ".stl", dir.path() / (name + ".stl"));
+  expect_grown_on_trunk(dir, name);
+}
+
 TEST(PlanBranches, TwoBranchesGrowsItsHangingArmOnTheOtherSupportFreeByDefault) {
   TempDir dir;
   std::filesystem::copy_file(std::string(POLYAXIS_PARTS_DIR) + "/two_branches.stl", dir.path() / "two_branches.stl");
@@ -67,8 +73,7 @@ TEST(PlanBranches, TwoBranchesGrowsItsHangingArmOnTheOtherSupportFreeByDefault) 
 
 TEST(PlanBranches, AColumnWithThreeArmsRoundItsSideGrowsThemOnTheColumn) {
   TempDir dir;
-  std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/three_arms.stl", dir.path() / "three_arms.stl");
-  expect_grown_on_trunk(dir, "three_arms");
+  expect_corpus_part_grown_on_trunk(dir, "three_arms");
 }
 
 // three_arms on a round foot: the foot's flat disc puts spurs into the skeleton that no round tube
@@ -76,8 +81,7 @@ TEST(PlanBranches, AColumnWithThreeArmsRoundItsSideGrowsThemOnTheColumn) {
 // trunk split was refused as not round, and the planar decomposition left 0.5 mm² overhanging).
 TEST(PlanBranches, AColumnWithArmsStandingOnARoundFootGrowsThemOnTheColumn) {
   TempDir dir;
-  std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/footed_arms.stl", dir.path() / "footed_arms.stl");
-  expect_grown_on_trunk(dir, "footed_arms");
+  expect_corpus_part_grown_on_trunk(dir, "footed_arms");
   // The trunk holds the foot: it stands on the plate and holds more than the foot's volume.
   const auto plan = read_json(dir.path() / "plan.json");
   ASSERT_GE(plan["regions"].size(), 2u);
@@ -88,8 +92,7 @@ TEST(PlanBranches, AColumnWithArmsStandingOnARoundFootGrowsThemOnTheColumn) {
 // A column on a round foot with arms at two heights and azimuths.
 TEST(PlanBranches, AColumnOnAFootWithArmsAtTwoHeightsGrowsThemOnTheColumn) {
   TempDir dir;
-  std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/two_heights.stl", dir.path() / "two_heights.stl");
-  expect_grown_on_trunk(dir, "two_heights");
+  expect_corpus_part_grown_on_trunk(dir, "two_heights");
 }
 
 // A Y fork and a tuning fork of our own: both arms leave the column at an angle and stand close.
