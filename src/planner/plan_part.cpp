@@ -83,7 +83,8 @@ struct Candidate {
   std::vector<PlanRegion> regions;
   PlanOptions plan_options;
   bool root_at_lowest = false;  // a decomposition's root stands on the part's lowest point
-  // choose_auto's key for it in PartMemo (which candidate, how the part stands); empty elsewhere.
+  // Its key in PartMemo (candidate_key: which candidate of the choice, how the part stands); empty
+  // for the plans made outside the choice (trunk splits, substrate pieces, redirected regions).
   std::vector<double> memo_key;
 };
 
@@ -572,6 +573,35 @@ constexpr std::array<const char*, kAutoCandidates> kAutoLabels = {
     "one build direction",           "the decomposition", "the decomposition from the lowest point", "one build direction turned over",
     "the decomposition turned over", "one build direction on a side face"};
 
+// PartMemo's key for candidate I of the choice under O: which candidate and how the part stands.
+std::vector<double> candidate_key(std::size_t i, const PlanPartOptions& o) {
+  const analysis::RootBase& rb = o.root_base;
+  return std::vector<double>{static_cast<double>(i), o.direction.x, o.direction.y, o.direction.z, static_cast<double>(rb.kind),
+                             static_cast<double>(rb.face), rb.point.x, rb.point.y, rb.point.z, rb.normal.x, rb.normal.y, rb.normal.z};
+}
+
+// The candidate under KEY, made by PLAN(STOP); or, when O asks for planar layers, the one the choice
+// on automatic layers made under KEY and kept because it took planar layers in every region (the
+// same plan). A candidate made on automatic layers, not stopped, is kept so when it is.
+template <typename MakeFn>
+core::Result<Candidate> memoized(PartMemo& memo, const std::vector<double>& key, const PlanPartOptions& o, const std::atomic<bool>* stop,
+                                 MakeFn&& plan) {
+  if (o.plan.layers == LayerChoice::kPlanar) {
+    if (const auto kept = memo.planar_candidate(key)) {
+      Candidate c = *kept;
+      // As this choice would have planned it: regions it plans again (redirected) take planar layers too.
+      c.plan_options.layers = o.plan.layers;
+      return c;
+    }
+  }
+  core::Result<Candidate> made = plan(stop);
+  if (!made) return made;
+  made.value().memo_key = key;
+  const bool stopped = stop != nullptr && stop->load();
+  if (o.plan.layers == LayerChoice::kAuto && !stopped && turned_layers(made.value().plan).empty()) memo.keep_planar_candidate(key, made.value());
+  return made;
+}
+
 // A side face to stand the part on: at least this many bead widths squared, and leaving at most
 // this share of the overhang (mesh::overhang_area) that the part upright or turned over leaves.
 constexpr double kSideFaceMinBeads2 = 25.0;
@@ -619,25 +649,9 @@ core::Result<Candidate> choose_auto(const mesh::RepairedMesh& part, const machin
     if (i != kOneOnASide) return std::string(kAutoLabels[i]);
     return fmt::format("{} (along {})", kAutoLabels[i], direction_text(side));
   };
-  const analysis::RootBase& rb = o.root_base;
-  auto memo_key = [&](std::size_t i) {
-    return std::vector<double>{static_cast<double>(i), o.direction.x, o.direction.y, o.direction.z, static_cast<double>(rb.kind),
-                               static_cast<double>(rb.face), rb.point.x, rb.point.y, rb.point.z, rb.normal.x, rb.normal.y, rb.normal.z};
-  };
   auto make = [&](std::size_t i, auto&& plan) {
     if (unwanted[i].load()) return;
-    const auto kept = o.plan.layers == LayerChoice::kPlanar ? memo.planar_candidate(memo_key(i)) : nullptr;
-    if (kept) {
-      made[i].emplace(*kept);
-      // As this choice would have planned it: regions it plans again (redirected) take planar layers too.
-      made[i]->value().plan_options.layers = o.plan.layers;
-    } else {
-      made[i].emplace(plan(&unwanted[i]));
-      if (made[i]->ok()) made[i]->value().memo_key = memo_key(i);
-      if (o.plan.layers == LayerChoice::kAuto && made[i]->ok() && !unwanted[i].load() && turned_layers(made[i]->value().plan).empty()) {
-        memo.keep_planar_candidate(memo_key(i), made[i]->value());
-      }
-    }
+    made[i].emplace(memoized(memo, candidate_key(i, o), o, &unwanted[i], plan));
     if (made[i]->ok() && made[i]->value().plan.unsupported_area_mm2 == 0.0) {
       for (std::size_t j = i + 1; j < kAutoCandidates; ++j) unwanted[j] = true;
     }
@@ -837,13 +851,16 @@ core::Result<Candidate> choose(const mesh::RepairedMesh& part, const machine::Ma
                       fmt::join(o.prebuilt, ", "));
     return plan_decomposed(part, machine, process, o, o.root_base, memo);
   }
+  // The plan on planar layers is kept from the one on automatic layers where that one took them
+  // everywhere: as auto's first candidates, under their keys.
   if (o.strategy == Strategy::kSingle) {
     why = "one region along the given direction (--strategy single)";
-    return plan_single(part, machine, process, o);
+    return memoized(memo, candidate_key(kOneDirection, o), o, nullptr, [&](auto stop) { return plan_single(part, machine, process, o, stop); });
   }
   if (o.strategy == Strategy::kDecompose) {
     why = "the part's regions, each along its own direction (--strategy decompose)";
-    return plan_decomposed(part, machine, process, o, o.root_base, memo);
+    return memoized(memo, candidate_key(kDecomposition, o), o, nullptr,
+                    [&](auto stop) { return plan_decomposed(part, machine, process, o, o.root_base, memo, stop); });
   }
   // Auto: one direction; then the decomposition rooted as asked, at the lowest point; then with the
   // part turned over, one direction and the decomposition; the best that succeeds, taken in that
