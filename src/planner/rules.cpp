@@ -86,7 +86,7 @@ std::vector<Rule> rule_base(const machine::MachineConfig& machine, const process
       {kReorientTilt, "the tool axis turns along a layer where the torch tilt changes", {{"reorientation_deg", kReorientationDeg}}},
       {kTiltNormal, "the torch stays along the layer's normal: nothing overhangs", {}},
       {kTiltOverhang,
-       "the torch tilts over overhanging outer contours (Kapil Eq. 3), smoothed within the tilt axis's speed",
+       "the torch tilts over overhanging surface contours, outer and hole (Kapil Eq. 3), smoothed within the tilt axis's speed",
        {{"self_supporting_deg", alpha}, {"max_step_bead_share", process.max_step_bead_share}}},
       {kTiltClearance,
        "tool axes are turned towards the table's normal where the head would come too close to the plate or the table, or leave the "

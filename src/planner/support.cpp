@@ -42,13 +42,13 @@ double unsupported_area(const std::vector<geom2d::Ring>& below, double t, const 
   for (const geom2d::Polygon& piece : overhang) {
     const double piece_area = geom2d::area_mm2(piece);
     if (piece_area <= kPieceNoiseMm2) continue;
-    // Largest torch tilt of the outer-contour points over this piece (within a bead of its box).
+    // Largest torch tilt of the surface-contour points over this piece (within a bead of its box).
     std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
     for (const auto& q : piece.outer) x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
     const std::int64_t margin = geom2d::to_units(bead_mm);
     double tilt = 0.0;
     for (const toolpath::Path& path : paths.paths) {
-      if (!path.outer_contour) continue;
+      if (!path.surface_contour) continue;
       for (const toolpath::PathPoint& p : path.points) {
         const Vec3 rel = p.position_mm - layer.frame.origin;
         const std::int64_t u = geom2d::to_units(core::dot(rel, layer.frame.u)), v = geom2d::to_units(core::dot(rel, layer.frame.v));

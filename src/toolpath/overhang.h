@@ -1,4 +1,4 @@
-// Kapil et al. Eq. 1-3: the torch axis on outer contours over overhanging facets, and the lookup
+// Kapil et al. Eq. 1-3: the torch axis on surface contours (outer and hole) over overhanging facets, and the lookup
 // of the facet under a contour point.
 #pragma once
 

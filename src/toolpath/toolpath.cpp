@@ -57,7 +57,7 @@ constexpr double kOutlineSimplifyMm = 0.002;
 struct Candidate {
   PathKind kind = PathKind::kPerimeter;
   std::uint32_t perimeter_index = 0;
-  bool outer_contour = false;
+  bool surface_contour = false;
   bool closed = true;
   bool fixed_start = false;  // a perimeter whose seam is already chosen
   Ring points;
@@ -110,7 +110,7 @@ void add_rings(const std::vector<Polygon>& offset, PathKind kind, std::uint32_t 
   for (const Polygon& p : offset) {
     if (p.outer.size() >= 3) group.push_back({kind, index, outermost, true, fixed, p.outer});
     for (const Ring& h : p.holes) {
-      if (h.size() >= 3) group.push_back({kind, index, false, true, fixed, h});
+      if (h.size() >= 3) group.push_back({kind, index, outermost, true, fixed, h});
     }
   }
 }
@@ -364,7 +364,7 @@ class LayerPlanner {
   std::vector<Vec3> axes(const Candidate& c) const {
     const Vec3 d = layer_.frame.d;
     std::vector<Vec3> out(c.points.size(), d);
-    if (!o_.tilt_on_overhang || !c.outer_contour || facets_ == nullptr || facets_->empty()) return out;
+    if (!o_.tilt_on_overhang || !c.surface_contour || facets_ == nullptr || facets_->empty()) return out;
     const double min_dot = -std::sin(o_.self_supporting_deg * kPi / 180.0);
     const std::size_t n = c.points.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -405,7 +405,7 @@ class LayerPlanner {
       path.layer = layer_.index;
       path.region = o_.region;
       path.perimeter_index = c.perimeter_index;
-      path.outer_contour = c.outer_contour;
+      path.surface_contour = c.surface_contour;
       path.gap_fill = c.gap_fill;
       const std::vector<Vec3> axis = axes(c);
       for (const std::size_t i : distinct_points(c)) path.points.push_back({world(c.points[i]), axis[i], !path.points.empty()});

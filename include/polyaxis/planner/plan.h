@@ -48,7 +48,7 @@ inline constexpr double kConformalEdgeBeads = 0.5;
 struct PlanOptions {
   Vec3 direction{0, 0, 1};   // build direction in the part's frame
   LayerChoice layers = LayerChoice::kAuto;
-  bool tilt_on_overhang = true;  // Kapil Eq. 3 on overhanging outer contours (needs rotary axes)
+  bool tilt_on_overhang = true;  // Kapil Eq. 3 on overhanging surface contours (outer and hole) (needs rotary axes)
   int perimeters = 2;
   double retract_mm = 5.0;   // lift along the tool axis between layers
   int threads = 0;
@@ -71,7 +71,7 @@ struct PlanOptions {
 // Support check (SPEC §3): a layer's area outside the layer below grown by t·tan(α), where α is
 // the self-supporting angle measured from the torch axis. A tilted torch moves the local build
 // direction: each piece of overhang is counted as supported when it lies within the layer below
-// grown by t·tan(α + θ), θ the largest tilt of the outer-contour points over that piece (within a
+// grown by t·tan(α + θ), θ the largest tilt of the surface-contour points over that piece (within a
 // bead of it). With the torch along d everywhere this is the plain planar check.
 // The rule of a region that is the whole part, along one direction (--strategy single).
 inline constexpr const char* kRegionWhole = "whole part";
@@ -156,7 +156,7 @@ inline constexpr const char* kRuleLevel = "order.level";          // the lowest 
 
 // The rules that set a layer's torch axes (toolpath.h, Kapil Eq. 3; the build model's guard).
 inline constexpr const char* kTiltNormal = "tilt.normal";        // along the layer's normal everywhere
-inline constexpr const char* kTiltOverhang = "tilt.overhang";    // tilted over overhanging outer contours (Kapil Eq. 3)
+inline constexpr const char* kTiltOverhang = "tilt.overhang";    // tilted over overhanging surface contours (outer and hole) (Kapil Eq. 3)
 inline constexpr const char* kTiltClearance = "tilt.clearance";  // turned towards the table's normal for clearance or reach
 inline constexpr const char* kTiltOnPlate = "tilt.on-plate";     // laid on the plate: upright
 inline constexpr const char* kTiltEased = "tilt.eased";          // turned towards the normal or the table's to clear the deposit

@@ -1,6 +1,6 @@
 // Toolpaths for planar layers (SPEC §2.5): perimeters, area fill, ordering and a tool axis at every
 // point. Planar 5-axis tool axes follow Kapil et al., "5-axis slicing methods for additive
-// manufacturing of metallic parts", Eq. 1-3: on an outer-contour point over an overhanging facet
+// manufacturing of metallic parts", Eq. 1-3: on a surface-contour point over an overhanging facet
 // the torch is t = n × (p_{i+1} − p_i), normalised; elsewhere t = k (the build direction).
 #pragma once
 
@@ -58,7 +58,7 @@ struct Path {
   // Perimeters: 0 = outermost. Contour-parallel fill rings continue the count (perimeters + j for
   // the j-th fill ring); zigzag fill and travel: 0.
   std::uint32_t perimeter_index = 0;
-  bool outer_contour = false;  // the outermost perimeter of an outer boundary, not of a hole
+  bool surface_contour = false;  // the outermost perimeter of a boundary, outer or hole: it lays the part's surface
   bool gap_fill = false;       // a fill path laid along the middle of a thin piece (ToolpathOptions::gap_fill)
   // Closed paths (perimeters, contour fill) repeat their first point at the end. The first point
   // of every deposition path has deposit = false (the move arriving there is a travel).
@@ -86,7 +86,7 @@ struct ToolpathOptions {
   // Neighbouring beads overlap by this fraction of the bead width, in [0, 1): perimeters and fill
   // lines are spaced by bead_width_mm·(1 − overlap).
   double overlap = 0.0;
-  bool tilt_on_overhang = true;  // Kapil Eq. 3 on outer contours; false: t = d everywhere
+  bool tilt_on_overhang = true;  // Kapil Eq. 3 on surface contours (outer and hole); false: t = d everywhere
   // Self-supporting angle α from the build direction, degrees, in [0, 90). A facet with unit
   // normal n overhangs when n·d < −sin α, i.e. when its wall leans more than α from d. With α = 0
   // this is Kapil's Eq. 2 (n·k < 0); Kapil notes (§3-axis slicing) that walls within about 30° of
@@ -112,7 +112,7 @@ struct ToolpathOptions {
   bool gap_fill_first_layer = true;
   std::uint32_t region = 0;  // copied into Path::region
   int threads = 0;           // 0: all cores (oneTBB); the output does not depend on it
-  // The tilted torch's field along an outer contour (smooth_tool_axes): the largest tilt within
+  // The tilted torch's field along a surface contour (smooth_tool_axes): the largest tilt within
   // axis_window_mm of arc length on either side is held (no chatter between facets), and the tilt
   // ramps down no faster than max_axis_turn_deg_per_mm, so the rotary axes keep pace with the tip.
   double axis_window_mm = 1.0;
@@ -142,7 +142,7 @@ core::Status validate(const ToolpathOptions& options);
 
 // Toolpaths for every layer of LAYERS, in the same order (one LayerToolpaths per layer, empty
 // paths for an empty layer). MESH is the mesh the layers were sliced from (mesh::repair output):
-// its facets give the overhang tilt of outer contours. All layers must share one build direction
+// its facets give the overhang tilt of surface contours (outer and hole). All layers must share one build direction
 // (a SliceResult from slicing::slice or its adaptive form does).
 //
 // Per island (polygon) of a layer: perimeters at offsets w/2 + j·s inwards (w the bead width, s
@@ -155,7 +155,7 @@ core::Status validate(const ToolpathOptions& options);
 // angle about the layer's centroid from layer to layer. Islands and paths are ordered greedily by
 // the nearest start.
 //
-// Tool axes: d (the layer normal) everywhere, except on outer-contour points when
+// Tool axes: d (the layer normal) everywhere, except on surface-contour points when
 // tilt_on_overhang. For the move from path point i to i + 1, the facet is the one whose crossing
 // with the layer's plane is nearest to the move's midpoint (faces with face_min < h <= face_max,
 // found through a uniform grid); if it overhangs (n·d < −sin α), point i gets

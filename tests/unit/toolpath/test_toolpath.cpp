@@ -107,7 +107,7 @@ bool same(const std::vector<LayerToolpaths>& a, const std::vector<LayerToolpaths
     }
     for (std::size_t j = 0; j < x.paths.size(); ++j) {
       const Path &p = x.paths[j], &q = y.paths[j];
-      if (p.kind != q.kind || p.perimeter_index != q.perimeter_index || p.outer_contour != q.outer_contour ||
+      if (p.kind != q.kind || p.perimeter_index != q.perimeter_index || p.surface_contour != q.surface_contour ||
           p.points.size() != q.points.size()) {
         return false;
       }
@@ -139,7 +139,7 @@ TEST(Toolpath, BoxPerimetersAtTheirOffsets) {
       EXPECT_TRUE(p->points.back().deposit);
       const double off = 1.0 + 2.0 * p->perimeter_index;  // half a bead, then a bead each
       EXPECT_NEAR(xy_area(*p), (40 - 2 * off) * (30 - 2 * off), kAreaTol) << "layer " << l.layer;
-      EXPECT_EQ(p->outer_contour, p->perimeter_index == 0);
+      EXPECT_EQ(p->surface_contour, p->perimeter_index == 0);
       for (const PathPoint& q : p->points) EXPECT_NEAR(q.position_mm.z, l.layer + 0.5, 1e-9);
     }
     // Execution order: outermost perimeter, inner perimeter, fill; travels between.
@@ -216,7 +216,7 @@ TEST(Toolpath, FrameWithAHolePerimetersBothBoundariesAndFillsAroundTheHole) {
     for (const Path* p : perimeters) {
       const double off = 1.0 + 2.0 * p->perimeter_index;
       const bool outer = xy_area(*p) > 0.0;  // outer rings counter-clockwise, holes clockwise
-      EXPECT_EQ(p->outer_contour, outer && p->perimeter_index == 0);
+      EXPECT_EQ(p->surface_contour, p->perimeter_index == 0) << "the hole's outermost perimeter lays the part's surface too";
       EXPECT_NEAR(std::fabs(xy_area(*p)), outer ? (40 - 2 * off) * (40 - 2 * off) : (16 + 2 * off) * (16 + 2 * off), kAreaTol);
     }
     const auto fill = of_kind(l, PathKind::kFill);
@@ -243,7 +243,7 @@ TEST(Toolpath, ContourFillContinuesTheOffsetsUntilEmpty) {
     for (const Path* p : fill) {
       const double off = 1.0 + 2.0 * p->perimeter_index;
       EXPECT_NEAR(xy_area(*p), (40 - 2 * off) * (30 - 2 * off), kAreaTol);
-      EXPECT_FALSE(p->outer_contour);
+      EXPECT_FALSE(p->surface_contour);
     }
   }
 }
@@ -750,7 +750,7 @@ void expect_frustum_tilt(double r1, double expected_tilt_rad, const ToolpathOpti
       for (std::size_t i = 0; i < p.points.size(); ++i) {
         const PathPoint& q = p.points[i];
         if (p.kind == PathKind::kTravel) continue;  // takes the axes of the paths it joins
-        if (!p.outer_contour) {
+        if (!p.surface_contour) {
           EXPECT_EQ(q.tool_axis, d);
           continue;
         }
@@ -787,6 +787,60 @@ TEST(Toolpath, SelfSupportingWallIsNotTilted) {
   ToolpathOptions off;
   off.tilt_on_overhang = false;
   expect_frustum_tilt(20.0, 0.0, off);
+}
+
+// A cylinder of radius R_OUT around a bore narrowing upwards from R0 at z = 0 to R1 at z = H
+// (N-gons): the bore's wall leans inwards and overhangs, as a bottle's shoulder or a dome closing
+// in does from inside.
+io::RawMesh closing_bore(double r_out, double r0, double r1, double h, std::uint32_t n) {
+  io::RawMesh m;
+  for (const auto& [r, z] : std::vector<std::array<double, 2>>{{r_out, 0.0}, {r_out, h}, {r0, 0.0}, {r1, h}}) {
+    for (std::uint32_t i = 0; i < n; ++i) m.points.push_back({r * std::cos(2.0 * kPi * i / n), r * std::sin(2.0 * kPi * i / n), z});
+  }
+  const std::uint32_t ob = 0, ot = n, ib = 2 * n, it = 3 * n;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t j = (i + 1) % n;
+    m.triangles.push_back({ob + i, ob + j, ot + j});  // the outer wall, outwards
+    m.triangles.push_back({ob + i, ot + j, ot + i});
+    m.triangles.push_back({ib + i, it + j, ib + j});  // the bore's wall, towards the axis
+    m.triangles.push_back({ib + i, it + i, it + j});
+    m.triangles.push_back({ob + i, ib + j, ob + j});  // the bottom ring, down
+    m.triangles.push_back({ob + i, ib + i, ib + j});
+    m.triangles.push_back({ot + i, ot + j, it + j});  // the top ring, up
+    m.triangles.push_back({ot + i, it + j, it + i});
+  }
+  return m;
+}
+
+TEST(Toolpath, AnOverhangingHoleWallTiltsTheHoleContourInwards) {
+  // Kapil's Eq. 1-3 hold on every contour of the part's surface, a hole's as well as the outer one.
+  constexpr std::uint32_t kSides = 64;
+  for (const auto& [r0, r1] : std::vector<std::array<double, 2>>{{20.0, 8.0}, {14.0, 6.0}}) {
+    const double wall = std::atan((r0 - r1) * std::cos(kPi / kSides) / 10.0);  // from vertical: 50°, 38.7°
+    const mesh::Mesh m = repaired(closing_bore(25.0, r0, r1, 10.0, kSides));
+    const auto layers = plan(m, sliced(m, 1.0), ToolpathOptions{});
+    ASSERT_EQ(layers.size(), 10u);
+    expect_unit_axes(layers);
+    const Vec3 d{0, 0, 1};
+    std::size_t tilted = 0;
+    for (const auto& l : layers) {
+      for (const Path& p : l.paths) {
+        if (p.kind == PathKind::kTravel) continue;
+        for (const PathPoint& q : p.points) {
+          const Vec3 radial{q.position_mm.x, q.position_mm.y, 0.0};
+          const bool on_bore = p.surface_contour && core::norm(radial) < 0.5 * (r0 + 25.0);
+          if (!on_bore) {
+            EXPECT_EQ(q.tool_axis, d) << "the outer wall stands upright; inner perimeters and fill keep d";
+            continue;
+          }
+          EXPECT_NEAR(tilt_rad(q, d), std::min(wall, kMaxTiltRad), 1e-6) << "layer " << l.layer;
+          EXPECT_LT(core::dot(q.tool_axis, radial), 0.0) << "the torch leans inwards, along the bore's wall";
+          ++tilted;
+        }
+      }
+    }
+    EXPECT_GT(tilted, 0u);
+  }
 }
 
 TEST(Toolpath, SameOutputAtAnyThreadCount) {
@@ -887,7 +941,7 @@ TEST(Toolpath, ImpellerBladeTipsAreTilted) {
         EXPECT_GT(core::dot(q.tool_axis, d), 0.0);
         EXPECT_LE(tilt_rad(q, d), kMaxTiltRad + 1e-12);
         if (p.kind == PathKind::kTravel) continue;  // takes the axes of the paths it joins
-        if (!p.outer_contour) {
+        if (!p.surface_contour) {
           EXPECT_EQ(q.tool_axis, d);
           continue;
         }
