@@ -277,7 +277,7 @@ std::optional<ExactSplit> exact_split(const Region& host, Vec3 point, Vec3 norma
   // Counted on the child as cut, with any cavity it encloses.
   out.child_mm2 = detail::unsupported(out.child, out.direction, alpha_deg, point, normal);
   // Its own underside where it lies in the cut: nothing holds it but a film of the parent.
-  if (const double on_cut = detail::underside_in_cut_mm2(host.mesh, point, normal); on_cut >= kUnsupportedNoiseMm2) out.child_mm2 += on_cut;
+  if (const double on_cut = detail::underside_in_cut_mm2(host.mesh, point, normal, rules.min_thickness_mm); on_cut >= kUnsupportedNoiseMm2) out.child_mm2 += on_cut;
   if (rules.child_must_stand && out.child_mm2 > 0.0) return std::nullopt;
   out.unsupported_mm2 = detail::unsupported(out.parent, host.build_direction, alpha_deg, host.base_point, host.base_normal) + out.child_mm2;
   // Only a child that stands is looked at for starts in mid-air (one that overhangs is no patch

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "polyaxis/core/tolerances.h"
 #include "polyaxis/mesh/properties.h"
@@ -20,6 +21,9 @@ constexpr double kConcaveRiseMm = 1e-9;
 constexpr double kCreaseDeg = 20.0;
 // Faces this far on the parent's side of a cut are in it (underside_in_cut_mm2), mm.
 constexpr double kUndersideBandMm = 2.0 * kFaceCutOffsetMm;
+// A face under a cut, within the least layer of it, that faces away from it within this angle
+// bounds a film the cut leaves the parent, degrees (underside_in_cut_mm2).
+constexpr double kFilmFacingDeg = 45.0;
 // Corners within this of one another along a direction are level, mm: rounding of a cut's points on
 // a plane across the direction. Level corners are ordered along kTieBreak, a direction no part's
 // edges follow by design.
@@ -161,21 +165,28 @@ double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_poin
   return total;
 }
 
-double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal) {
+double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal, double film_mm) {
   const Vec3 n = core::normalized(normal);
+  const double band = std::max(kUndersideBandMm, film_mm), film_cos = std::cos(kFilmFacingDeg * std::numbers::pi / 180.0);
   double area = 0.0;
   for (std::size_t f = 0; f < m.triangles.size(); ++f) {
     // In the band first: one dot product turns most faces away (this runs once per screened split).
-    bool in_cut = true;
+    bool in_cut = true, in_face_band = true;
     for (int k = 0; k < 3 && in_cut; ++k) {
       const double d = core::dot(m.corner(f, k) - point, n);
-      in_cut = d <= kOnBaseMm && d >= -kUndersideBandMm;
+      in_cut = d <= kOnBaseMm && d >= -band;
+      in_face_band = in_face_band && d >= -kUndersideBandMm;
     }
     if (!in_cut) continue;
     const Vec3 a2 = mesh::face_area_vector(m, f);
     const double len = core::norm(a2);
-    if (len == 0.0 || core::dot(a2, n) > -kCoplanarCos * len) continue;  // not facing away from the child
-    area += len / 2.0;
+    if (len == 0.0) continue;
+    const double facing = -core::dot(a2, n) / len;  // 1: facing straight away from the child
+    if (in_face_band && facing >= kCoplanarCos) {
+      area += len / 2.0;
+    } else if (facing >= film_cos && facing < kCoplanarCos) {
+      area += facing * len / 2.0;  // a film's face, seen along the cut's normal
+    }
   }
   return area;
 }

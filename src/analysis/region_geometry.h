@@ -70,8 +70,11 @@ double unsupported(const mesh::Mesh& m, Vec3 d, double alpha_deg, Vec3 base_poin
 // Area of the facets of M that lie in the cut plane (POINT, unit NORMAL towards the child), or up
 // to twice kFaceCutOffsetMm on the parent's side of it, facing away from the child: the child's own
 // underside, which the cut leaves on nothing but a film of the parent (or on nothing at all), mm².
-// Such a face is an overhang of the child whatever its direction. O(F).
-double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal);
+// Also, seen along NORMAL, the facets less than FILM_MM (the least layer) under the cut that face
+// away from it within kFilmFacingDeg: the cut leaves the parent a film there that no layer lays (a
+// plane grazing a tube's bore), and the child's first layer over it rests on nothing. Such a face
+// is an overhang of the child whatever its direction. O(F).
+double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal, double film_mm = 0.0);
 
 // The corners of M where a region built along D starts in mid-air: local minima of the height
 // along D (no corner sharing a facet with it lower; level corners ordered by a fixed tie-break, so

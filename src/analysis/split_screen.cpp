@@ -269,7 +269,7 @@ Screened screen_split(const HostRegion& host, Vec3 point, Vec3 normal, std::span
   const std::vector<FacetSample> bins = binned(child);
   out.child_direction = best_direction(bins, normal, direction_starts, alpha_deg, kScreenSearchEndDeg, host.reach);
   out.child_mm2 = overhang_of(child, out.child_direction, alpha_deg);
-  if (const double on_cut = underside_in_cut_mm2(m, point, normal); on_cut >= kUnsupportedNoiseMm2) out.child_mm2 += on_cut;
+  if (const double on_cut = underside_in_cut_mm2(m, point, normal, host.min_thickness_mm); on_cut >= kUnsupportedNoiseMm2) out.child_mm2 += on_cut;
   out.valid = true;
   return out;
 }

@@ -260,6 +260,31 @@ TEST(PlanDecomposed, TeesAreCutAtTheColumnAndReadBackClean) {
   }
 }
 
+// A round boss leaving a tube's side (tests/corpus/branches tube_boss, tube_boss_thin): its first
+// section lies on the tube's outer surface, so every plane across it stepped back towards the tube's
+// axis cuts the tube's wall too. One grazing the bore left the wall a film thinner than a layer
+// under the boss's first layer, and the boss's region took a slab of the wall laid as slivers along
+// the boss (66.6 mm² unsupported one way, 98 mm² and 150 mm² of unlaid slivers the other). The
+// decomposition counts such a film as the child's overhang and cuts the boss off outside the bore
+// (with a solid lens of the wall, or just outside the tube). A boss on a solid bar (solid_boss),
+// where any slab is solid, is still cut.
+TEST(PlanDecomposed, ABossOnATubeIsCutOffOutsideTheTubeWall) {
+  for (const std::string name : {"tube_boss", "tube_boss_thin", "solid_boss"}) {
+    TempDir dir;
+    const auto part = dir / (name + ".stl");
+    std::filesystem::copy_file(std::string(POLYAXIS_CORPUS_DIR) + "/branches/" + name + ".stl", part);
+    const auto plan = run_cli("plan '" + part.string() + "' -o '" + dir.path().string() + "' --no-html");
+    ASSERT_EQ(plan.exit_code, 0) << plan.err;
+    const auto report = read_json(dir / "report.json");
+    EXPECT_EQ(report["strategy"].get<std::string>(), "decompose") << name << ": " << report["strategy_reason"];
+    EXPECT_EQ(report["regions"].get<int>(), 2) << name;
+    EXPECT_LT(report["unsupported_area_mm2"].get<double>(), 5.0) << name;
+    EXPECT_LT(report["thin_area_mm2"].get<double>(), 5.0) << name;
+    check_readback(dir.path(), name);
+    expect_rs274_reads(dir.path(), dir / (name + ".ngc"));
+  }
+}
+
 // Fins of our own on a block, with defaults: 3 mm thick at the root, tapering to less than the
 // 0.9 mm bead at the top, upright or leaning. The part narrower than a bead has no perimeter and
 // is laid as one bead along its middle (gap fill) where it is at least half a bead wide, on the

@@ -2,6 +2,8 @@
 // a region can be laid is not a split, before any exact cut is paid for.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <tuple>
 
 #include "analysis/region_geometry.h"
@@ -56,6 +58,19 @@ io::RawMesh keel_prism(double half_width, double depth, double length) {
   }
   m.triangles = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {2, 0, 3}, {2, 3, 5}};
   return m;
+}
+
+// A tube (od 40, bore 34, 48 sides, 50 tall) cut by the plane x = C towards +X. Just past the
+// bore (the corners at 17 mm) the parent keeps a film of the wall under the child's first layer.
+TEST(UndersideInCut, AFilmTheCutLeavesOverATubesBoreIsTheChildsUndersideAndASolidWallIsNot) {
+  const auto tube = polyaxis::test::repaired(polyaxis::test::revolve({{20.0, 0.0}, {20.0, 50.0}}, 48, 17.0));
+  const double film = underside_in_cut_mm2(tube.mesh, {17.1, 0, 0}, {1, 0, 0}, 0.3);
+  // The two facet columns either side of x = 17 (corners at 17 and 17·cos 7.5° = 16.85 mm), 50 mm
+  // tall and 2.22 mm wide, seen along X.
+  const double column = 2.0 * 17.0 * std::sin(3.75 * std::numbers::pi / 180.0) * 50.0 * std::cos(3.75 * std::numbers::pi / 180.0);
+  EXPECT_NEAR(film, 2.0 * column, 1e-6);
+  EXPECT_EQ(underside_in_cut_mm2(tube.mesh, {17.1, 0, 0}, {1, 0, 0}, 0.0), 0.0) << "no least layer: only faces in the cut count";
+  EXPECT_EQ(underside_in_cut_mm2(tube.mesh, {18.0, 0, 0}, {1, 0, 0}, 0.3), 0.0) << "a wall over 0.3 mm thick under the cut";
 }
 
 TEST(MidAirStarts, AKeelStartsOnNothingAtOneCornerWhereverItLeans) {
