@@ -184,7 +184,7 @@ double underside_in_cut_mm2(const mesh::Mesh& m, Vec3 point, Vec3 normal, double
     const double facing = -core::dot(a2, n) / len;  // 1: facing straight away from the child
     if (in_face_band && facing >= kCoplanarCos) {
       area += len / 2.0;
-    } else if (facing >= film_cos && facing < kCoplanarCos) {
+    } else if (film_mm > 0.0 && facing >= film_cos) {
       area += facing * len / 2.0;  // a film's face, seen along the cut's normal
     }
   }

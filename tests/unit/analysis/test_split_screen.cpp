@@ -73,6 +73,16 @@ TEST(UndersideInCut, AFilmTheCutLeavesOverATubesBoreIsTheChildsUndersideAndASoli
   EXPECT_EQ(underside_in_cut_mm2(tube.mesh, {18.0, 0, 0}, {1, 0, 0}, 0.3), 0.0) << "a wall over 0.3 mm thick under the cut";
 }
 
+// An L (a 20 x 10 x 10 block with a 10 x 10 ledge from z = 5 to 10 on its side) cut across z: a
+// plane 0.1 mm above the ledge's underside leaves the parent a film of the ledge, parallel to it.
+TEST(UndersideInCut, AFilmParallelToTheCutCountsWholeAndALedgeThickerThanALayerDoesNot) {
+  const auto l = polyaxis::test::repaired(polyaxis::test::prism_xz({{0, 0}, {20, 0}, {20, 5}, {30, 5}, {30, 10}, {0, 10}}, 10.0));
+  EXPECT_NEAR(underside_in_cut_mm2(l.mesh, {0, 0, 5.1}, {0, 0, 1}, 0.3), 100.0, 1e-6);
+  EXPECT_EQ(underside_in_cut_mm2(l.mesh, {0, 0, 5.5}, {0, 0, 1}, 0.3), 0.0);
+  EXPECT_EQ(underside_in_cut_mm2(l.mesh, {0, 0, 5.1}, {0, 0, 1}, 0.0), 0.0) << "no least layer: only faces in the cut count";
+  EXPECT_NEAR(underside_in_cut_mm2(l.mesh, {0, 0, 5.0 + 1e-3}, {0, 0, 1}, 0.0), 100.0, 1e-6) << "the ledge's underside in the cut";
+}
+
 TEST(MidAirStarts, AKeelStartsOnNothingAtOneCornerWhereverItLeans) {
   for (const auto& [half_width, depth, length] : {std::tuple{3.0, 10.0, 20.0}, std::tuple{1.0, 6.0, 7.5}}) {
     const auto prism = polyaxis::test::repaired(keel_prism(half_width, depth, length));
